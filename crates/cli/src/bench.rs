@@ -1,0 +1,140 @@
+//! `grains bench dem`: time the DEM engine on a dense bed with the peer benchmark's
+//! physics (LAMMPS `gran/hooke/history`, kn = 4000, kt = 2/7 kn, γn = 87, γt = γn/2,
+//! μ = 0.3, density 1, g = 1, Δt = 5·10⁻⁴, skin 0.1, frictional floor, periodic x).
+
+use crate::{fail, set_threads};
+use clap::Subcommand;
+use glam::DVec2;
+use grains_core::rng;
+use grains_dem::{step, ContactModel, Domain, Material, Particles, Setup, State, Wall, WallShape};
+use rand::RngExt;
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// What to benchmark.
+#[derive(Subcommand)]
+pub enum BenchCommand {
+    /// The DEM engine on a bed of disks.
+    Dem {
+        /// Number of disks in the bed.
+        #[arg(long, default_value_t = 20_000)]
+        particles: usize,
+        /// Timed steps.
+        #[arg(long, default_value_t = 2000)]
+        steps: u64,
+        /// Worker threads.
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+}
+
+/// Runs the command.
+pub fn cmd_bench(what: BenchCommand) -> ExitCode {
+    match what {
+        BenchCommand::Dem { particles, steps, threads } => {
+            if particles == 0 {
+                return fail(1, "--particles = 0: must be at least 1");
+            }
+            let threads = match set_threads(threads) {
+                Ok(t) => t,
+                Err(e) => return fail(1, &e),
+            };
+            let (setup, p) = peer_bed(particles);
+            let mut state = State::new(&setup, p);
+            let t0 = Instant::now();
+            for _ in 0..steps {
+                step(&setup, &mut state);
+            }
+            let secs = t0.elapsed().as_secs_f64();
+            let rate = particles as f64 * steps as f64 / secs;
+            println!("particles: {particles}");
+            println!("steps: {steps}");
+            println!("threads: {threads}");
+            println!("wall time: {secs:.3} s");
+            println!("neighbour builds: {}", state.contacts.builds);
+            println!("state-hash: {:016x}", state_hash(&state));
+            println!("particle-steps/s: {rate:.4e}");
+            ExitCode::SUCCESS
+        }
+    }
+}
+
+/// A bed of `n` disks (d uniform in [0.88, 0.98)) on a square lattice of pitch 1 over a
+/// floor, about 2.3 times wider than high, with the peer benchmark's contact law.
+pub fn peer_bed(n: usize) -> (Setup, Particles) {
+    let nx = ((2.27 * n as f64).sqrt().ceil() as usize).max(4);
+    let ny = n.div_ceil(nx);
+    let material = Material {
+        name: "bench".into(),
+        density: 1.0,
+        youngs: None,
+        poisson: None,
+        restitution: None,
+        friction: None,
+        inertia_factor: 0.5,
+    };
+    let model = ContactModel::HookeHistory {
+        kn: 4000.0,
+        kt: 4000.0 * 2.0 / 7.0,
+        gamma_n: 87.0,
+        gamma_t: 43.5,
+        mu: 0.3,
+        limit_damping: false,
+    };
+    let domain = Domain {
+        lo: DVec2::new(0.0, 0.0),
+        hi: DVec2::new(nx as f64, ny as f64 + 2.0),
+        periodic: [true, false],
+    };
+    let floor = Wall {
+        name: "floor".into(),
+        shape: WallShape::Segment { a: [-1e9, 0.0], b: [1e9, 0.0] },
+        material: None,
+    };
+    let setup = Setup::new(domain, vec![material], model, vec![floor], DVec2::new(0.0, -1.0), 5e-4, 0.1)
+        .expect("the benchmark set-up is valid");
+    let mut rng = rng::seeded(4711);
+    let mut p = Particles::default();
+    for k in 0..n {
+        let at = DVec2::new((k % nx) as f64 + 0.5, (k / nx) as f64 + 0.5);
+        let d = 0.88 + 0.1 * rng.random::<f64>();
+        p.push(at, 0.5 * d, 1.0, 0.5, 0, DVec2::ZERO, 0.0);
+    }
+    (setup, p)
+}
+
+/// FNV-1a over every particle's position, velocity and angular velocity (in id order)
+/// and every touching pair's tangential spring (keyed by ids).
+pub fn state_hash(s: &State) -> u64 {
+    let p = &s.particles;
+    let mut h: u64 = 0xcbf29ce484222325;
+    let mut eat = |bits: u64| {
+        for b in bits.to_le_bytes() {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x100000001b3);
+        }
+    };
+    let mut order: Vec<usize> = (0..p.len()).collect();
+    order.sort_unstable_by_key(|&i| p.id[i]);
+    for &i in &order {
+        for v in [p.pos[i].x, p.pos[i].y, p.vel[i].x, p.vel[i].y, p.omega[i]] {
+            eat(v.to_bits());
+        }
+    }
+    let list = &s.contacts;
+    let mut springs = Vec::new();
+    for i in 0..p.len() {
+        for e in list.row[i] as usize..list.row[i + 1] as usize {
+            if list.shear[e] != 0.0 {
+                let (a, b) = (p.id[i], p.id[list.nbr[e] as usize]);
+                springs.push(((a.min(b) as u64) << 32 | a.max(b) as u64, list.shear[e]));
+            }
+        }
+    }
+    springs.sort_unstable_by_key(|&(k, _)| k);
+    for (k, v) in springs {
+        eat(k);
+        eat(v.to_bits());
+    }
+    h
+}

@@ -1,0 +1,28 @@
+//! Shared output layer of the grains simulation suite.
+//!
+//! Every solver in the workspace writes its results through this crate so
+//! that all of them produce the same kinds of files:
+//!
+//! - [`vtk`]: ParaView-readable `.vtp`/`.vtu` frames (VTK XML, appended raw
+//!   binary) and [`pvd`] time-series collections that index them;
+//! - [`history`]: CSV time histories with full round-trip precision;
+//! - [`plot`]: PNG line plots and particle maps;
+//! - [`checks`]: pass/fail verification records for `summary.json`, written
+//!   with [`json`];
+//! - [`rng`]: the one seeded random generator used everywhere, so runs are
+//!   reproducible;
+//! - [`atomic`]: the write-then-rename primitive the writers above share, so
+//!   an interrupted run never leaves a half-written file behind.
+#![warn(missing_docs)]
+
+pub mod atomic;
+pub mod checks;
+pub mod history;
+pub mod json;
+pub mod plot;
+pub mod pvd;
+pub mod rng;
+pub mod vtk;
+mod xml;
+
+pub use glam::{DVec2, DVec3};

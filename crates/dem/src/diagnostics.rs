@@ -1,0 +1,167 @@
+//! Read-only measurements of a state: energies, momentum, contacts, overlaps.
+//! Nothing here changes the run (contact history included).
+
+use crate::particles::Particles;
+use crate::setup::Setup;
+use crate::step::State;
+use crate::CHUNK;
+use glam::DVec2;
+use rayon::prelude::*;
+
+/// Global figures of one state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Diagnostics {
+    /// Translational kinetic energy (J per unit thickness).
+    pub kinetic_translational: f64,
+    /// Rotational kinetic energy.
+    pub kinetic_rotational: f64,
+    /// Gravitational potential energy −m g·x (zero at the origin).
+    pub potential: f64,
+    /// Elastic energy stored in contact springs (normal and tangential, walls included).
+    pub elastic: f64,
+    /// Total linear momentum.
+    pub momentum: DVec2,
+    /// Number of touching particle pairs.
+    pub pair_contacts: usize,
+    /// Number of touching particle–wall pairs.
+    pub wall_contacts: usize,
+    /// Largest overlap divided by the smaller radius of the pair.
+    pub max_overlap_ratio: f64,
+    /// Whether every position and velocity is finite.
+    pub finite: bool,
+}
+
+impl Diagnostics {
+    /// Kinetic energy, translational plus rotational.
+    pub fn kinetic(&self) -> f64 {
+        self.kinetic_translational + self.kinetic_rotational
+    }
+
+    /// Kinetic + potential + elastic.
+    pub fn total(&self) -> f64 {
+        self.kinetic() + self.potential + self.elastic
+    }
+
+    /// Mean number of contacts per particle (each pair counts for both, walls for one).
+    pub fn mean_coordination(&self, n: usize) -> f64 {
+        if n == 0 {
+            return 0.0;
+        }
+        (2 * self.pair_contacts + self.wall_contacts) as f64 / n as f64
+    }
+}
+
+/// Measures a state. Sums run over fixed chunks in order, so the figures do not depend
+/// on the thread count.
+pub fn measure(setup: &Setup, s: &State) -> Diagnostics {
+    let p = &s.particles;
+    let list = &s.contacts;
+    let n = p.len();
+    let parts: Vec<Diagnostics> = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut d = Diagnostics {
+                finite: true,
+                ..Default::default()
+            };
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                let m = p.mass(i);
+                let v = p.vel[i];
+                d.kinetic_translational += 0.5 * m * v.length_squared();
+                d.kinetic_rotational += 0.5 * p.omega[i].powi(2) / p.inv_inertia[i];
+                d.potential -= m * setup.gravity.dot(p.pos[i]);
+                d.momentum += m * v;
+                d.finite &= p.pos[i].is_finite() && v.is_finite() && p.omega[i].is_finite();
+                let mi = p.material[i] as usize;
+                for e in list.row[i] as usize..list.row[i + 1] as usize {
+                    let j = list.nbr[e] as usize;
+                    let dist = setup.domain.min_image(p.pos[j] - p.pos[i]).length();
+                    let overlap = p.radius[i] + p.radius[j] - dist;
+                    if overlap > 0.0 {
+                        let pp = setup.pairs.get(mi, p.material[j] as usize);
+                        d.elastic += 0.5 * pp.kn * overlap * overlap
+                            + 0.5 * pp.kt * list.shear[e].powi(2);
+                        d.pair_contacts += 1;
+                        let rmin = p.radius[i].min(p.radius[j]);
+                        d.max_overlap_ratio = d.max_overlap_ratio.max(overlap / rmin);
+                    }
+                }
+                wall_terms(setup, s, i, &mut d);
+            }
+            d
+        })
+        .collect();
+    let mut total = Diagnostics {
+        finite: true,
+        ..Default::default()
+    };
+    for d in parts {
+        total.kinetic_translational += d.kinetic_translational;
+        total.kinetic_rotational += d.kinetic_rotational;
+        total.potential += d.potential;
+        total.elastic += d.elastic;
+        total.momentum += d.momentum;
+        total.pair_contacts += d.pair_contacts;
+        total.wall_contacts += d.wall_contacts;
+        total.max_overlap_ratio = total.max_overlap_ratio.max(d.max_overlap_ratio);
+        total.finite &= d.finite;
+    }
+    total
+}
+
+fn wall_terms(setup: &Setup, s: &State, i: usize, d: &mut Diagnostics) {
+    let p = &s.particles;
+    let nw = setup.walls.len();
+    for (w, wall) in setup.walls.iter().enumerate() {
+        let Some(t) = wall.shape.nearest(p.pos[i]) else { continue };
+        let overlap = p.radius[i] - t.distance;
+        if overlap > 0.0 {
+            let pp = setup.wall_pair(w, p.material[i] as usize);
+            let xi = s.contacts.wall_shear.get(i * nw + w).copied().unwrap_or(0.0);
+            d.elastic += 0.5 * pp.kn * overlap * overlap + 0.5 * pp.kt * xi * xi;
+            d.wall_contacts += 1;
+            d.max_overlap_ratio = d.max_overlap_ratio.max(overlap / p.radius[i]);
+        }
+    }
+}
+
+/// Contacts per particle (pairs and walls), in the current particle order.
+pub fn contact_counts(setup: &Setup, s: &State) -> Vec<u32> {
+    let p: &Particles = &s.particles;
+    let list = &s.contacts;
+    let mut count = vec![0u32; p.len()];
+    for i in 0..p.len() {
+        for e in list.row[i] as usize..list.row[i + 1] as usize {
+            let j = list.nbr[e] as usize;
+            let dist = setup.domain.min_image(p.pos[j] - p.pos[i]).length();
+            if p.radius[i] + p.radius[j] > dist {
+                count[i] += 1;
+                count[j] += 1;
+            }
+        }
+        for wall in &setup.walls {
+            if wall
+                .shape
+                .nearest(p.pos[i])
+                .is_some_and(|t| t.distance < p.radius[i])
+            {
+                count[i] += 1;
+            }
+        }
+    }
+    count
+}
+
+/// Overlap of particle `i` with wall `w` (negative: a gap), if the wall has a normal there.
+pub fn wall_overlap(setup: &Setup, p: &Particles, i: usize, w: usize) -> Option<f64> {
+    setup.walls[w]
+        .shape
+        .nearest(p.pos[i])
+        .map(|t| p.radius[i] - t.distance)
+}
+
+/// Convenience: position of the particle with stable id `id`, if present.
+pub fn index_of(p: &Particles, id: u32) -> Option<usize> {
+    p.id.iter().position(|&k| k == id)
+}
+

@@ -1,0 +1,155 @@
+//! Velocity-Verlet integration, fused with gravity, walls and the gathering of pair
+//! forces, so each stage is one sweep over the particles.
+
+use crate::forces::contact_force;
+use crate::neighbours::ContactList;
+use crate::particles::Particles;
+use crate::setup::Setup;
+use crate::CHUNK;
+use glam::DVec2;
+use rayon::prelude::*;
+
+/// Resultant load that the particles exert on one wall.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WallLoad {
+    /// Force on the wall (N per unit thickness).
+    pub force: DVec2,
+    /// Torque on the wall about its reference point (segment midpoint, circle centre).
+    pub torque: f64,
+    /// Number of particles touching it.
+    pub contacts: u32,
+}
+
+/// First half of velocity Verlet: half kick with the last forces, then drift, and wrap
+/// positions on periodic axes.
+pub fn kick_drift(setup: &Setup, p: &mut Particles) {
+    let dt = setup.dt;
+    let h = 0.5 * dt;
+    let domain = setup.domain;
+    p.pos
+        .par_chunks_mut(CHUNK)
+        .zip(p.vel.par_chunks_mut(CHUNK))
+        .zip(p.omega.par_chunks_mut(CHUNK))
+        .zip(p.force.par_chunks(CHUNK))
+        .zip(p.torque.par_chunks(CHUNK))
+        .zip(p.inv_mass.par_chunks(CHUNK))
+        .zip(p.inv_inertia.par_chunks(CHUNK))
+        .for_each(|((((((x, v), w), f), t), im), ii)| {
+            for k in 0..x.len() {
+                v[k] += h * im[k] * f[k];
+                w[k] += h * ii[k] * t[k];
+                x[k] = domain.wrap(x[k] + dt * v[k]);
+            }
+        });
+}
+
+/// Sums each particle's pair forces (own entries and those where it is the partner),
+/// adds gravity and wall contacts (advancing wall springs by `dt_shear`), stores the
+/// total force and torque, and applies a kick of `kick` × acceleration to the velocities
+/// (½Δt to close a Verlet step; 0 for the initial evaluation).
+///
+/// Returns the load on each wall, summed over fixed chunks in order so that it is
+/// bitwise the same whatever the thread count.
+pub fn walls_gather_kick(
+    setup: &Setup,
+    p: &mut Particles,
+    list: &mut ContactList,
+    dt_shear: f64,
+    kick: f64,
+) -> Vec<WallLoad> {
+    let n = p.len();
+    let nw = setup.walls.len();
+    let nchunks = n.div_ceil(CHUNK);
+    let wall_shear: Vec<&mut [f64]> = if nw > 0 {
+        list.wall_shear.chunks_mut(CHUNK * nw).collect()
+    } else {
+        (0..nchunks).map(|_| &mut [] as &mut [f64]).collect()
+    };
+    let (pos, radius, inv_mass, inv_inertia, material) =
+        (&p.pos, &p.radius, &p.inv_mass, &p.inv_inertia, &p.material);
+    let (row, fpair, ftan) = (&list.row, &list.fpair, &list.ftan);
+    let (rev_row, rev_entry, wall_near) = (&list.rev_row, &list.rev_entry, &list.wall_near);
+    let gravity = setup.gravity;
+
+    let partial: Vec<Vec<WallLoad>> = p
+        .vel
+        .par_chunks_mut(CHUNK)
+        .zip(p.omega.par_chunks_mut(CHUNK))
+        .zip(p.force.par_chunks_mut(CHUNK))
+        .zip(p.torque.par_chunks_mut(CHUNK))
+        .zip(wall_shear)
+        .enumerate()
+        .map(|(c, ((((vel, omega), force), torque), ws))| {
+            let mut loads = vec![WallLoad::default(); nw];
+            for k in 0..vel.len() {
+                let i = c * CHUNK + k;
+                let r = radius[i];
+                let mut f = gravity / inv_mass[i];
+                let mut tq = 0.0;
+                for e in row[i] as usize..row[i + 1] as usize {
+                    f += fpair[e];
+                    tq += r * ftan[e];
+                }
+                for &e in &rev_entry[rev_row[i] as usize..rev_row[i + 1] as usize] {
+                    f -= fpair[e as usize];
+                    tq += r * ftan[e as usize];
+                }
+                let mut mask = wall_near[i];
+                while mask != 0 {
+                    let w = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let shear = &mut ws[k * nw + w];
+                    let Some(touch) = setup.walls[w].shape.nearest(pos[i]) else {
+                        continue;
+                    };
+                    if touch.distance >= r {
+                        *shear = 0.0;
+                        continue;
+                    }
+                    let params = setup.wall_pair(w, material[i] as usize);
+                    let m = 1.0 / inv_mass[i];
+                    let cf = contact_force(
+                        params,
+                        m,
+                        touch.normal,
+                        r - touch.distance,
+                        vel[k],
+                        r * omega[k],
+                        shear,
+                        dt_shear,
+                    );
+                    let fw = -cf.normal * touch.normal + cf.tangential * touch.normal.perp();
+                    f += fw;
+                    tq += r * cf.tangential;
+                    let at = pos[i] + touch.normal * touch.distance;
+                    let arm = at - wall_reference(&setup.walls[w].shape);
+                    loads[w].force -= fw;
+                    loads[w].torque -= arm.perp_dot(fw);
+                    loads[w].contacts += 1;
+                }
+                force[k] = f;
+                torque[k] = tq;
+                vel[k] += kick * inv_mass[i] * f;
+                omega[k] += kick * inv_inertia[i] * tq;
+            }
+            loads
+        })
+        .collect();
+
+    let mut total = vec![WallLoad::default(); nw];
+    for loads in partial {
+        for (t, l) in total.iter_mut().zip(loads) {
+            t.force += l.force;
+            t.torque += l.torque;
+            t.contacts += l.contacts;
+        }
+    }
+    total
+}
+
+fn wall_reference(shape: &crate::walls::WallShape) -> DVec2 {
+    match *shape {
+        crate::walls::WallShape::Segment { a, b } => 0.5 * (DVec2::from(a) + DVec2::from(b)),
+        crate::walls::WallShape::Circle { centre, .. } => DVec2::from(centre),
+    }
+}

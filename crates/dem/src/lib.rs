@@ -1,0 +1,39 @@
+//! Two-dimensional discrete element method (DEM) for disks, after xue-2019 Appendix B.
+//!
+//! Disks carry mass and moment of inertia per unit thickness and interact through a
+//! linear spring-dashpot normal force and an incremental tangential spring capped by
+//! Coulomb friction, whose history lives as long as the contact does. Walls (segments
+//! and circles) use the same law with an infinitely heavy, non-rotating partner.
+//!
+//! One time step is a short, fixed sequence of named stages (see [`step::step`]):
+//! `kick_drift → neighbours → pair_contacts → walls_gather_kick`. State is passed
+//! explicitly: [`Particles`] (per-field storage), [`ContactList`] (neighbour list with
+//! tangential history) and a read-only [`Setup`] (domain, walls, contact table, time step).
+#![warn(missing_docs)]
+
+pub mod contact;
+pub mod diagnostics;
+pub mod domain;
+pub mod forces;
+pub mod integrate;
+pub mod material;
+pub mod neighbours;
+pub mod particles;
+pub mod setup;
+pub mod step;
+pub mod timestep;
+pub mod walls;
+
+pub use contact::{ContactModel, PairParams, PairTable};
+pub use domain::Domain;
+pub use material::Material;
+pub use neighbours::ContactList;
+pub use particles::Particles;
+pub use setup::{Setup, SetupError};
+pub use step::{step, State};
+pub use walls::{Wall, WallShape};
+
+/// Work is split into fixed-size chunks of particles so that every reduction and every
+/// parallel pass sees the same partition whatever the thread count: results are then
+/// bitwise identical for 1, 2 or N threads.
+pub const CHUNK: usize = 2048;

@@ -1,0 +1,351 @@
+//! Neighbour search: spatial sort into a cell grid, a half Verlet list in CSR form with
+//! the tangential history stored beside it, and the list of walls near each particle.
+//!
+//! At each rebuild the particles are re-sorted by cell (so a particle's neighbours sit
+//! close to it in memory), the list is rebuilt with cutoff r_i + r_j + skin, and the
+//! tangential springs of touching pairs are carried over by the particles' stable ids.
+//! Between rebuilds the list stays valid while no particle has moved more than skin/2.
+
+use crate::particles::Particles;
+use crate::setup::Setup;
+use crate::CHUNK;
+use glam::DVec2;
+use rayon::prelude::*;
+
+/// Half neighbour list (each pair once, owned by the lower index) with per-entry
+/// contact state, plus per-particle wall state.
+#[derive(Clone, Debug, Default)]
+pub struct ContactList {
+    /// Entries of particle i are `row[i]..row[i+1]` (length N + 1).
+    pub row: Vec<u32>,
+    /// Partner index j of each entry.
+    pub nbr: Vec<u32>,
+    /// Tangential spring displacement ξ of each entry (m); zero when not touching.
+    pub shear: Vec<f64>,
+    /// Force on the row owner from this entry at the last evaluation (the partner gets
+    /// the opposite).
+    pub fpair: Vec<DVec2>,
+    /// Tangential force F_t of this entry; each side's torque is its radius times F_t.
+    pub ftan: Vec<f64>,
+    /// Entries in which particle j is the partner are `rev_entry[rev_row[j]..rev_row[j+1]]`.
+    pub rev_row: Vec<u32>,
+    /// Entry indices, grouped by partner.
+    pub rev_entry: Vec<u32>,
+    /// Bit w is set when wall w may touch the particle before the next rebuild.
+    pub wall_near: Vec<u64>,
+    /// Tangential spring of each particle–wall pair, `[i * n_walls + w]`.
+    pub wall_shear: Vec<f64>,
+    /// Number of walls (stride of `wall_shear`).
+    pub n_walls: usize,
+    /// Positions at the last rebuild, for the skin criterion.
+    pub pos_at_build: Vec<DVec2>,
+    /// Number of rebuilds so far.
+    pub builds: u64,
+}
+
+/// Uniform cell grid over the domain; cells are at least the largest cutoff wide.
+#[derive(Clone, Copy, Debug)]
+struct CellGrid {
+    lo: DVec2,
+    inv_h: DVec2,
+    n: [usize; 2],
+    periodic: [bool; 2],
+}
+
+impl CellGrid {
+    fn new(setup: &Setup, particles: &Particles) -> Self {
+        let d = &setup.domain;
+        let len = d.length();
+        let mut h = (2.0 * particles.max_radius() + setup.skin).max(f64::MIN_POSITIVE);
+        // Bound the cell count (and memory) for sparse systems in large boxes.
+        let max_cells = (4 * particles.len()).max(1024) as f64;
+        let want = (len.x / h).ceil() * (len.y / h).ceil();
+        if want > max_cells {
+            h *= (want / max_cells).sqrt();
+        }
+        let mut n = [1usize; 2];
+        let mut inv_h = DVec2::ZERO;
+        for a in 0..2 {
+            let l = len[a];
+            if d.periodic[a] {
+                // Cells must tile a periodic axis exactly, each at least h wide.
+                n[a] = ((l / h).floor() as usize).max(1);
+                inv_h[a] = n[a] as f64 / l;
+            } else {
+                n[a] = ((l / h).ceil() as usize).max(1);
+                inv_h[a] = 1.0 / h;
+            }
+        }
+        CellGrid {
+            lo: d.lo,
+            inv_h,
+            n,
+            periodic: d.periodic,
+        }
+    }
+
+    #[inline]
+    fn coords(&self, p: DVec2) -> [usize; 2] {
+        let c = (p - self.lo) * self.inv_h;
+        let clamp = |v: f64, n: usize| (v.floor().max(0.0) as usize).min(n - 1);
+        [clamp(c.x, self.n[0]), clamp(c.y, self.n[1])]
+    }
+
+    #[inline]
+    fn index(&self, c: [usize; 2]) -> usize {
+        c[1] * self.n[0] + c[0]
+    }
+
+    fn count(&self) -> usize {
+        self.n[0] * self.n[1]
+    }
+
+    /// The distinct cells within one cell of `c` (wrapping periodic axes).
+    fn around(&self, c: [usize; 2]) -> ([usize; 9], usize) {
+        let mut out = [0usize; 9];
+        let mut k = 0;
+        for dy in -1i64..=1 {
+            let Some(y) = self.step(c[1], dy, 1) else { continue };
+            for dx in -1i64..=1 {
+                let Some(x) = self.step(c[0], dx, 0) else { continue };
+                let id = self.index([x, y]);
+                if !out[..k].contains(&id) {
+                    out[k] = id;
+                    k += 1;
+                }
+            }
+        }
+        (out, k)
+    }
+
+    #[inline]
+    fn step(&self, c: usize, d: i64, axis: usize) -> Option<usize> {
+        let n = self.n[axis] as i64;
+        let v = c as i64 + d;
+        if self.periodic[axis] {
+            Some(v.rem_euclid(n) as usize)
+        } else if (0..n).contains(&v) {
+            Some(v as usize)
+        } else {
+            None
+        }
+    }
+}
+
+#[inline]
+fn pair_key(a: u32, b: u32) -> u64 {
+    let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+    ((lo as u64) << 32) | hi as u64
+}
+
+impl ContactList {
+    /// Number of list entries.
+    pub fn len(&self) -> usize {
+        self.nbr.len()
+    }
+
+    /// True when the list has no entries.
+    pub fn is_empty(&self) -> bool {
+        self.nbr.is_empty()
+    }
+
+    /// Whether any particle has moved more than skin/2 since the last rebuild (or the
+    /// list was never built).
+    pub fn needs_rebuild(&self, setup: &Setup, particles: &Particles) -> bool {
+        if self.pos_at_build.len() != particles.len() || self.builds == 0 {
+            return true;
+        }
+        let limit2 = (0.5 * setup.skin).powi(2);
+        particles
+            .pos
+            .par_chunks(CHUNK)
+            .zip(self.pos_at_build.par_chunks(CHUNK))
+            .any(|(p, q)| {
+                p.iter()
+                    .zip(q)
+                    .any(|(&a, &b)| setup.domain.min_image(a - b).length_squared() > limit2)
+            })
+    }
+
+    /// Re-sorts the particles by cell, rebuilds the list and carries the tangential
+    /// history of touching pairs (and walls) over to the new order.
+    pub fn rebuild(&mut self, setup: &Setup, particles: &mut Particles) {
+        let n = particles.len();
+        let nw = setup.walls.len();
+        let old = self.history_by_id(particles);
+        if self.wall_shear.len() != n * nw {
+            self.wall_shear = vec![0.0; n * nw];
+        }
+        self.n_walls = nw;
+
+        let grid = CellGrid::new(setup, particles);
+        let (perm, cell_start) = sort_by_cell(&grid, particles);
+        particles.permute(&perm);
+        if nw > 0 {
+            let old_ws = std::mem::take(&mut self.wall_shear);
+            self.wall_shear = perm
+                .iter()
+                .flat_map(|&p| old_ws[p as usize * nw..(p as usize + 1) * nw].iter().copied())
+                .collect();
+        }
+
+        // Rows, built per fixed chunk and concatenated in order (deterministic).
+        let parts: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                let range = c * CHUNK..((c + 1) * CHUNK).min(n);
+                build_rows(setup, &grid, &cell_start, particles, range, &old)
+            })
+            .collect();
+        self.row.clear();
+        self.row.push(0);
+        self.nbr.clear();
+        self.shear.clear();
+        for (lens, nbr, shear) in parts {
+            for l in lens {
+                let last = *self.row.last().unwrap();
+                self.row.push(last + l);
+            }
+            self.nbr.extend_from_slice(&nbr);
+            self.shear.extend_from_slice(&shear);
+        }
+        let m = self.nbr.len();
+        self.fpair.clear();
+        self.fpair.resize(m, DVec2::ZERO);
+        self.ftan.clear();
+        self.ftan.resize(m, 0.0);
+        self.build_reverse(n);
+        self.find_walls(setup, particles);
+        self.pos_at_build.clone_from(&particles.pos);
+        self.builds += 1;
+    }
+
+    /// Touching entries as (pair key by stable id, ξ), sorted by key.
+    fn history_by_id(&self, particles: &Particles) -> Vec<(u64, f64)> {
+        let mut out = Vec::new();
+        if self.row.len() != particles.len() + 1 {
+            return out;
+        }
+        for i in 0..particles.len() {
+            for e in self.row[i] as usize..self.row[i + 1] as usize {
+                if self.shear[e] != 0.0 {
+                    let j = self.nbr[e] as usize;
+                    out.push((pair_key(particles.id[i], particles.id[j]), self.shear[e]));
+                }
+            }
+        }
+        out.sort_unstable_by_key(|&(k, _)| k);
+        out
+    }
+
+    fn build_reverse(&mut self, n: usize) {
+        let mut count = vec![0u32; n + 1];
+        for &j in &self.nbr {
+            count[j as usize + 1] += 1;
+        }
+        for k in 0..n {
+            count[k + 1] += count[k];
+        }
+        self.rev_row.clone_from(&count);
+        self.rev_entry.clear();
+        self.rev_entry.resize(self.nbr.len(), 0);
+        let mut fill = count;
+        for (e, &j) in self.nbr.iter().enumerate() {
+            let slot = &mut fill[j as usize];
+            self.rev_entry[*slot as usize] = e as u32;
+            *slot += 1;
+        }
+    }
+
+    fn find_walls(&mut self, setup: &Setup, particles: &Particles) {
+        let nw = setup.walls.len();
+        self.wall_near.clear();
+        self.wall_near.resize(particles.len(), 0);
+        if nw == 0 {
+            return;
+        }
+        let skin = setup.skin;
+        self.wall_near
+            .par_chunks_mut(CHUNK)
+            .zip(self.wall_shear.par_chunks_mut(CHUNK * nw))
+            .enumerate()
+            .for_each(|(c, (near, ws))| {
+                for (k, mask) in near.iter_mut().enumerate() {
+                    let i = c * CHUNK + k;
+                    let p = particles.pos[i];
+                    let r = particles.radius[i];
+                    for (w, wall) in setup.walls.iter().enumerate() {
+                        let close = wall
+                            .shape
+                            .nearest(p)
+                            .is_none_or(|t| t.distance < r + skin);
+                        if close {
+                            *mask |= 1 << w;
+                        } else {
+                            ws[k * nw + w] = 0.0;
+                        }
+                    }
+                }
+            });
+    }
+}
+
+/// Stable counting sort of particles by cell: returns the permutation and the CSR start
+/// of each cell in the new order.
+fn sort_by_cell(grid: &CellGrid, particles: &Particles) -> (Vec<u32>, Vec<u32>) {
+    let cells: Vec<u32> = particles
+        .pos
+        .par_iter()
+        .map(|&p| grid.index(grid.coords(p)) as u32)
+        .collect();
+    let mut start = vec![0u32; grid.count() + 1];
+    for &c in &cells {
+        start[c as usize + 1] += 1;
+    }
+    for k in 0..grid.count() {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start.clone();
+    let mut perm = vec![0u32; cells.len()];
+    for (i, &c) in cells.iter().enumerate() {
+        perm[fill[c as usize] as usize] = i as u32;
+        fill[c as usize] += 1;
+    }
+    (perm, start)
+}
+
+fn build_rows(
+    setup: &Setup,
+    grid: &CellGrid,
+    cell_start: &[u32],
+    p: &Particles,
+    range: std::ops::Range<usize>,
+    old: &[(u64, f64)],
+) -> (Vec<u32>, Vec<u32>, Vec<f64>) {
+    let mut lens = Vec::with_capacity(range.len());
+    let mut nbr = Vec::with_capacity(range.len() * 4);
+    let mut shear = Vec::with_capacity(range.len() * 4);
+    for i in range {
+        let before = nbr.len();
+        let (cells, k) = grid.around(grid.coords(p.pos[i]));
+        for &c in &cells[..k] {
+            for j in cell_start[c] as usize..cell_start[c + 1] as usize {
+                if j <= i {
+                    continue;
+                }
+                let cut = p.radius[i] + p.radius[j] + setup.skin;
+                let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
+                if d.length_squared() < cut * cut {
+                    nbr.push(j as u32);
+                    let key = pair_key(p.id[i], p.id[j]);
+                    let xi = old
+                        .binary_search_by_key(&key, |&(k, _)| k)
+                        .map_or(0.0, |at| old[at].1);
+                    shear.push(xi);
+                }
+            }
+        }
+        lens.push((nbr.len() - before) as u32);
+    }
+    (lens, nbr, shear)
+}

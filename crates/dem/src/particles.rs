@@ -1,0 +1,96 @@
+//! Per-field (structure-of-arrays) particle storage.
+
+use glam::DVec2;
+
+/// All disks, one vector per field. Index order changes when the engine re-sorts
+/// particles spatially; `id` is the stable identity given at creation.
+#[derive(Clone, Debug, Default)]
+pub struct Particles {
+    /// Stable identity (0..N at creation).
+    pub id: Vec<u32>,
+    /// Centre position (m).
+    pub pos: Vec<DVec2>,
+    /// Velocity (m/s).
+    pub vel: Vec<DVec2>,
+    /// Angular velocity about z (rad/s, counter-clockwise positive).
+    pub omega: Vec<f64>,
+    /// Radius (m).
+    pub radius: Vec<f64>,
+    /// 1 / mass per unit thickness.
+    pub inv_mass: Vec<f64>,
+    /// 1 / moment of inertia per unit thickness.
+    pub inv_inertia: Vec<f64>,
+    /// Material index into the scenario's material list.
+    pub material: Vec<u16>,
+    /// Total force of the last force evaluation (contacts, walls, gravity).
+    pub force: Vec<DVec2>,
+    /// Total torque of the last force evaluation.
+    pub torque: Vec<f64>,
+}
+
+impl Particles {
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+
+    /// True when there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+
+    /// Appends a disk of the given density and inertia factor (I = f m r²), at rest
+    /// unless `vel`/`omega` say otherwise.
+    #[allow(clippy::too_many_arguments)]
+    pub fn push(
+        &mut self,
+        pos: DVec2,
+        radius: f64,
+        density: f64,
+        inertia_factor: f64,
+        material: u16,
+        vel: DVec2,
+        omega: f64,
+    ) {
+        let mass = density * std::f64::consts::PI * radius * radius;
+        self.id.push(self.pos.len() as u32);
+        self.pos.push(pos);
+        self.vel.push(vel);
+        self.omega.push(omega);
+        self.radius.push(radius);
+        self.inv_mass.push(1.0 / mass);
+        self.inv_inertia.push(1.0 / (inertia_factor * mass * radius * radius));
+        self.material.push(material);
+        self.force.push(DVec2::ZERO);
+        self.torque.push(0.0);
+    }
+
+    /// Mass of particle `i`.
+    #[inline]
+    pub fn mass(&self, i: usize) -> f64 {
+        1.0 / self.inv_mass[i]
+    }
+
+    /// Reorders every field by `perm` (new index k holds old particle `perm[k]`).
+    pub fn permute(&mut self, perm: &[u32]) {
+        fn apply<T: Copy>(v: &mut Vec<T>, perm: &[u32]) {
+            let old = std::mem::take(v);
+            *v = perm.iter().map(|&p| old[p as usize]).collect();
+        }
+        apply(&mut self.id, perm);
+        apply(&mut self.pos, perm);
+        apply(&mut self.vel, perm);
+        apply(&mut self.omega, perm);
+        apply(&mut self.radius, perm);
+        apply(&mut self.inv_mass, perm);
+        apply(&mut self.inv_inertia, perm);
+        apply(&mut self.material, perm);
+        apply(&mut self.force, perm);
+        apply(&mut self.torque, perm);
+    }
+
+    /// Largest radius (0 when empty).
+    pub fn max_radius(&self) -> f64 {
+        self.radius.iter().copied().fold(0.0, f64::max)
+    }
+}
