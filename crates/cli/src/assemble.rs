@@ -21,7 +21,11 @@ pub struct Assembled {
     pub steps: u64,
 }
 
-fn err(key: impl Into<String>, value: impl ToString, allowed: impl Into<String>) -> SetupError {
+fn err(
+    key: impl Into<String>,
+    value: impl grains_dem::setup::Shown,
+    allowed: impl Into<String>,
+) -> SetupError {
     SetupError::new(key, value, allowed)
 }
 
@@ -50,7 +54,11 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, SetupError> {
         }
     }
     if s.materials.is_empty() {
-        return Err(err("material", "(none)", "at least one [[material]] is required"));
+        return Err(err(
+            "material",
+            "(none)",
+            "at least one [[material]] is required",
+        ));
     }
     let material_index = |key: &str, name: &str| -> Result<u16, SetupError> {
         s.materials
@@ -59,12 +67,20 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, SetupError> {
             .map(|k| k as u16)
             .ok_or_else(|| {
                 let names: Vec<&str> = s.materials.iter().map(|m| m.name.as_str()).collect();
-                err(key, format!("\"{name}\""), format!("must be one of {names:?}"))
+                err(
+                    key,
+                    format!("\"{name}\""),
+                    format!("must be one of {names:?}"),
+                )
             })
     };
     for (k, m) in s.materials.iter().enumerate() {
         if s.materials[..k].iter().any(|o| o.name == m.name) {
-            return Err(err("material.name", format!("\"{}\"", m.name), "names must be unique"));
+            return Err(err(
+                "material.name",
+                format!("\"{}\"", m.name),
+                "names must be unique",
+            ));
         }
     }
     for (k, g) in s.gravity.iter().enumerate() {
@@ -78,7 +94,11 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, SetupError> {
         add_group(s, g, src, base, &material_index, &mut particles)?;
     }
     if particles.is_empty() {
-        return Err(err("particles", "(none)", "at least one particle is required"));
+        return Err(err(
+            "particles",
+            "(none)",
+            "at least one particle is required",
+        ));
     }
 
     let mut walls = Vec::new();
@@ -88,18 +108,30 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, SetupError> {
         match shape {
             grains_dem::WallShape::Segment { a, b } => {
                 if a == b || !a.iter().chain(&b).all(|v| v.is_finite()) {
-                    return Err(err(format!("{key}.b"), format!("{b:?}"), "must be finite and differ from a"));
+                    return Err(err(
+                        format!("{key}.b"),
+                        format!("{b:?}"),
+                        "must be finite and differ from a",
+                    ));
                 }
             }
             grains_dem::WallShape::Circle { radius, centre, .. } => {
                 finite_positive(&format!("{key}.radius"), radius)?;
                 if !centre.iter().all(|v| v.is_finite()) {
-                    return Err(err(format!("{key}.centre"), format!("{centre:?}"), "must be finite"));
+                    return Err(err(
+                        format!("{key}.centre"),
+                        format!("{centre:?}"),
+                        "must be finite",
+                    ));
                 }
             }
         }
         if s.walls[..w].iter().any(|o| o.name() == spec.name()) {
-            return Err(err(format!("{key}.name"), format!("\"{}\"", spec.name()), "wall names must be unique"));
+            return Err(err(
+                format!("{key}.name"),
+                format!("\"{}\"", spec.name()),
+                "wall names must be unique",
+            ));
         }
         let material = match spec.material() {
             Some(name) => Some(material_index(&format!("{key}.material"), name)?),
@@ -121,6 +153,9 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, SetupError> {
     }
     if let Some(r) = s.run.stop_kinetic_ratio {
         finite_positive("run.stop_kinetic_ratio", r)?;
+    }
+    if let Some(t) = s.run.stop_rest_time {
+        finite_positive("run.stop_rest_time", t)?;
     }
     // Validate materials first with a provisional step, then bound the real one.
     let provisional = Setup::new(
@@ -170,22 +205,38 @@ fn add_group(
     out: &mut Particles,
 ) -> Result<(), SetupError> {
     let key = format!("particles[{g}]");
-    let mut push = |mat: u16, at: DVec2, r: f64, v: DVec2, w: f64, what: &str| -> Result<(), SetupError> {
-        if !(r.is_finite() && r > 0.0) {
-            return Err(err(format!("{key}.{what}.radius"), r, "must be a finite number > 0"));
-        }
-        if !at.is_finite() || !v.is_finite() || !w.is_finite() {
-            return Err(err(format!("{key}.{what}"), format!("{at:?}"), "position and velocity must be finite"));
-        }
-        let m = &s.materials[mat as usize];
-        out.push(at, r, m.density, m.inertia_factor, mat, v, w);
-        Ok(())
-    };
+    let mut push =
+        |mat: u16, at: DVec2, r: f64, v: DVec2, w: f64, what: &str| -> Result<(), SetupError> {
+            if !(r.is_finite() && r > 0.0) {
+                return Err(err(
+                    format!("{key}.{what}.radius"),
+                    r,
+                    "must be a finite number > 0",
+                ));
+            }
+            if !at.is_finite() || !v.is_finite() || !w.is_finite() {
+                return Err(err(
+                    format!("{key}.{what}"),
+                    format!("{at:?}"),
+                    "position and velocity must be finite",
+                ));
+            }
+            let m = &s.materials[mat as usize];
+            out.push(at, r, m.density, m.inertia_factor, mat, v, w);
+            Ok(())
+        };
     match src {
         ParticleSource::List { material, disks } => {
             let mat = material_index(&format!("{key}.material"), material)?;
             for (k, d) in disks.iter().enumerate() {
-                push(mat, DVec2::from(d.at), d.radius, DVec2::from(d.velocity), d.omega, &format!("disks[{k}]"))?;
+                push(
+                    mat,
+                    DVec2::from(d.at),
+                    d.radius,
+                    DVec2::from(d.velocity),
+                    d.omega,
+                    &format!("disks[{k}]"),
+                )?;
             }
         }
         ParticleSource::Lattice {
@@ -204,10 +255,18 @@ fn add_group(
             };
             finite_positive(&format!("{key}.radius.min"), rmin)?;
             if !(rmax.is_finite() && rmax >= rmin) {
-                return Err(err(format!("{key}.radius.max"), rmax, format!("must be >= radius.min = {rmin}")));
+                return Err(err(
+                    format!("{key}.radius.max"),
+                    rmax,
+                    format!("must be >= radius.min = {rmin}"),
+                ));
             }
             if !(spacing.is_finite() && *spacing >= 1.0) {
-                return Err(err(format!("{key}.spacing"), spacing, "must be >= 1 (disks would overlap)"));
+                return Err(err(
+                    format!("{key}.spacing"),
+                    spacing,
+                    "must be >= 1 (disks would overlap)",
+                ));
             }
             if !(speed.is_finite() && *speed >= 0.0) {
                 return Err(err(format!("{key}.speed"), speed, "must be >= 0"));
@@ -217,7 +276,11 @@ fn add_group(
             let size = DVec2::from(region.hi) - lo;
             let nx = ((size.x - 2.0 * rmax) / pitch).floor() as i64 + 1;
             let ny = ((size.y - 2.0 * rmax) / pitch).floor() as i64 + 1;
-            let capacity = if nx > 0 && ny > 0 { (nx * ny) as usize } else { 0 };
+            let capacity = if nx > 0 && ny > 0 {
+                (nx * ny) as usize
+            } else {
+                0
+            };
             if *count == 0 || *count > capacity {
                 return Err(err(
                     format!("{key}.count"),
@@ -229,7 +292,11 @@ fn add_group(
             for k in 0..*count {
                 let (ix, iy) = ((k as i64 % nx) as f64, (k as i64 / nx) as f64);
                 let at = lo + DVec2::splat(rmax) + DVec2::new(ix, iy) * pitch;
-                let r = if rmax > rmin { rng.random_range(rmin..rmax) } else { rmin };
+                let r = if rmax > rmin {
+                    rng.random_range(rmin..rmax)
+                } else {
+                    rmin
+                };
                 let v = if *speed > 0.0 {
                     let a = rng.random_range(0.0..std::f64::consts::TAU);
                     *speed * rng.random::<f64>() * DVec2::new(a.cos(), a.sin())
@@ -242,20 +309,44 @@ fn add_group(
         ParticleSource::File { material, path } => {
             let mat = material_index(&format!("{key}.material"), material)?;
             let full = base.join(path);
-            let text = std::fs::read_to_string(&full)
-                .map_err(|e| err(format!("{key}.path"), format!("\"{}\"", full.display()), format!("cannot be read: {e}")))?;
+            let text = std::fs::read_to_string(&full).map_err(|e| {
+                err(
+                    format!("{key}.path"),
+                    format!("\"{}\"", full.display()),
+                    format!("cannot be read: {e}"),
+                )
+            })?;
             for (ln, line) in text.lines().enumerate() {
                 let line = line.trim();
                 if line.is_empty() || line.starts_with('#') {
                     continue;
                 }
-                let v: Vec<f64> = line.split_whitespace().map(str::parse).collect::<Result<_, _>>().map_err(|_| {
-                    err(format!("{key}.path"), format!("\"{}\" line {}", full.display(), ln + 1), "each line must hold three numbers: x y r")
-                })?;
+                let v: Vec<f64> = line
+                    .split_whitespace()
+                    .map(str::parse)
+                    .collect::<Result<_, _>>()
+                    .map_err(|_| {
+                        err(
+                            format!("{key}.path"),
+                            format!("\"{}\" line {}", full.display(), ln + 1),
+                            "each line must hold three numbers: x y r",
+                        )
+                    })?;
                 if v.len() != 3 {
-                    return Err(err(format!("{key}.path"), format!("\"{}\" line {}", full.display(), ln + 1), "each line must hold three numbers: x y r"));
+                    return Err(err(
+                        format!("{key}.path"),
+                        format!("\"{}\" line {}", full.display(), ln + 1),
+                        "each line must hold three numbers: x y r",
+                    ));
                 }
-                push(mat, DVec2::new(v[0], v[1]), v[2], DVec2::ZERO, 0.0, &format!("line {}", ln + 1))?;
+                push(
+                    mat,
+                    DVec2::new(v[0], v[1]),
+                    v[2],
+                    DVec2::ZERO,
+                    0.0,
+                    &format!("line {}", ln + 1),
+                )?;
             }
         }
     }
@@ -270,7 +361,10 @@ fn check_periodic(setup: &Setup, p: &Particles) -> Result<(), SetupError> {
             return Err(err(
                 format!("domain.hi.{k}"),
                 setup.domain.hi[a],
-                format!("a periodic length must be at least 2 × (largest diameter + skin) = {:.4e} m", 2.0 * cut),
+                format!(
+                    "a periodic length must be at least 2 × (largest diameter + skin) = {:.4e} m",
+                    2.0 * cut
+                ),
             ));
         }
     }
@@ -283,9 +377,15 @@ fn check_wall_overlaps(setup: &Setup, p: &Particles) -> Result<(), SetupError> {
             if let Some(overlap) = grains_dem::diagnostics::wall_overlap(setup, p, i, w) {
                 if overlap > p.radius[i] {
                     return Err(err(
-                        format!("particle {} at ({:.6e}, {:.6e})", p.id[i], p.pos[i].x, p.pos[i].y),
+                        format!(
+                            "particle {} at ({:.6e}, {:.6e})",
+                            p.id[i], p.pos[i].x, p.pos[i].y
+                        ),
                         format!("overlap {overlap:.4e} m with wall \"{}\"", wall.name),
-                        format!("a particle may overlap a wall by at most its radius {:.4e} m", p.radius[i]),
+                        format!(
+                            "a particle may overlap a wall by at most its radius {:.4e} m",
+                            p.radius[i]
+                        ),
                     ));
                 }
             }
@@ -301,38 +401,66 @@ fn check_references(s: &Scenario, setup: &Setup, p: &Particles) -> Result<(), Se
             Ok(())
         } else {
             let names: Vec<&str> = setup.walls.iter().map(|w| w.name.as_str()).collect();
-            Err(err(format!("check[{k}].wall"), format!("\"{name}\""), format!("must name a wall, one of {names:?}")))
+            Err(err(
+                format!("check[{k}].wall"),
+                format!("\"{name}\""),
+                format!("must name a wall, one of {names:?}"),
+            ))
         }
     };
     let particle = |k: usize, id: u32| -> Result<(), SetupError> {
         if id < n {
             Ok(())
         } else {
-            Err(err(format!("check[{k}].particles"), id, format!("must be a particle id in 0..{n}")))
+            Err(err(
+                format!("check[{k}].particles"),
+                id,
+                format!("must be a particle id in 0..{n}"),
+            ))
         }
     };
     for (k, c) in s.checks.iter().enumerate() {
         let tol = c.tolerance();
         if !(tol.is_finite() && tol > 0.0) {
-            return Err(err(format!("check[{k}].tolerance"), tol, "must be a finite number > 0"));
+            return Err(err(
+                format!("check[{k}].tolerance"),
+                tol,
+                "must be a finite number > 0",
+            ));
         }
         match c {
             CheckSpec::Restitution { particles, .. } | CheckSpec::ContactTime { particles, .. } => {
                 particle(k, particles[0])?;
                 particle(k, particles[1])?;
                 if particles[0] == particles[1] {
-                    return Err(err(format!("check[{k}].particles"), format!("{particles:?}"), "must name two different particles"));
+                    return Err(err(
+                        format!("check[{k}].particles"),
+                        format!("{particles:?}"),
+                        "must name two different particles",
+                    ));
                 }
             }
-            CheckSpec::ImpactTangentialVelocity { particle: id, wall: w, .. }
-            | CheckSpec::ImpactAngularVelocity { particle: id, wall: w, .. } => {
+            CheckSpec::ImpactTangentialVelocity {
+                particle: id,
+                wall: w,
+                ..
+            }
+            | CheckSpec::ImpactAngularVelocity {
+                particle: id,
+                wall: w,
+                ..
+            } => {
                 particle(k, *id)?;
                 wall(k, w)?;
             }
             CheckSpec::WallForceOverWeight { wall: w, .. } => {
                 wall(k, w)?;
                 if setup.gravity == DVec2::ZERO {
-                    return Err(err("gravity", "[0, 0]", format!("check[{k}] needs non-zero gravity")));
+                    return Err(err(
+                        "gravity",
+                        "[0, 0]",
+                        format!("check[{k}] needs non-zero gravity"),
+                    ));
                 }
             }
         }

@@ -31,7 +31,11 @@ pub enum BenchCommand {
 /// Runs the command.
 pub fn cmd_bench(what: BenchCommand) -> ExitCode {
     match what {
-        BenchCommand::Dem { particles, steps, threads } => {
+        BenchCommand::Dem {
+            particles,
+            steps,
+            threads,
+        } => {
             if particles == 0 {
                 return fail(1, "--particles = 0: must be at least 1");
             }
@@ -88,11 +92,22 @@ pub fn peer_bed(n: usize) -> (Setup, Particles) {
     };
     let floor = Wall {
         name: "floor".into(),
-        shape: WallShape::Segment { a: [-1e9, 0.0], b: [1e9, 0.0] },
+        shape: WallShape::Segment {
+            a: [-1e9, 0.0],
+            b: [1e9, 0.0],
+        },
         material: None,
     };
-    let setup = Setup::new(domain, vec![material], model, vec![floor], DVec2::new(0.0, -1.0), 5e-4, 0.1)
-        .expect("the benchmark set-up is valid");
+    let setup = Setup::new(
+        domain,
+        vec![material],
+        model,
+        vec![floor],
+        DVec2::new(0.0, -1.0),
+        5e-4,
+        0.1,
+    )
+    .expect("the benchmark set-up is valid");
     let mut rng = rng::seeded(4711);
     let mut p = Particles::default();
     for k in 0..n {

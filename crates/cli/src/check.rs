@@ -62,10 +62,18 @@ pub fn cmd_check(path: &Path, json: bool) -> ExitCode {
         println!("particles    {}", d.particles);
         println!("materials    {}", d.materials);
         println!("walls        {}", d.walls);
-        println!("time step    {:.4e} s ({:.3} of the stable limit {:.4e} s)", d.dt, d.dt / d.dt_critical, d.dt_critical);
+        println!(
+            "time step    {:.4e} s ({:.3} of the stable limit {:.4e} s)",
+            d.dt,
+            d.dt / d.dt_critical,
+            d.dt_critical
+        );
         println!("duration     {:.4e} s = {} steps", d.duration, d.steps);
         println!("skin         {:.4e} m", d.skin);
-        println!("memory       ≈ {:.1} MB", d.memory_bytes_estimate as f64 / 1e6);
+        println!(
+            "memory       ≈ {:.1} MB",
+            d.memory_bytes_estimate as f64 / 1e6
+        );
         println!("ok");
     }
     ExitCode::SUCCESS

@@ -19,7 +19,11 @@ use std::process::ExitCode;
 const DEMO: &str = include_str!("../../../examples/dem/demo_hopper.toml");
 
 #[derive(Parser)]
-#[command(name = "grains", version, about = "Simulation suite for granular materials under extreme loading")]
+#[command(
+    name = "grains",
+    version,
+    about = "Simulation suite for granular materials under extreme loading"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -61,7 +65,11 @@ fn main() -> ExitCode {
         .init();
     let cli = Cli::parse();
     match cli.command {
-        Command::Run { scenario, out, threads } => cmd_run(scenario.as_deref(), out, threads),
+        Command::Run {
+            scenario,
+            out,
+            threads,
+        } => cmd_run(scenario.as_deref(), out, threads),
         Command::Check { scenario, json } => check::cmd_check(&scenario, json),
         Command::Bench { what } => bench::cmd_bench(what),
     }
@@ -83,10 +91,12 @@ pub fn set_threads(threads: Option<usize>) -> Result<usize, String> {
 
 fn cmd_run(path: Option<&Path>, out: Option<PathBuf>, threads: Option<usize>) -> ExitCode {
     let loaded = match path {
-        Some(p) => scenario::load(p).map(|(s, t)| (s, t, p.parent().map(Path::to_path_buf).unwrap_or_default())),
+        Some(p) => scenario::load(p)
+            .map(|(s, t)| (s, t, p.parent().map(Path::to_path_buf).unwrap_or_default())),
         None => {
             eprintln!("grains: no scenario given, running the built-in demo (examples/dem/demo_hopper.toml)");
-            scenario::parse(DEMO, "demo_hopper.toml").map(|s| (s, DEMO.to_string(), PathBuf::from(".")))
+            scenario::parse(DEMO, "demo_hopper.toml")
+                .map(|s| (s, DEMO.to_string(), PathBuf::from(".")))
         }
     };
     let (scn, text, base) = match loaded {
@@ -123,11 +133,23 @@ fn cmd_run(path: Option<&Path>, out: Option<PathBuf>, threads: Option<usize>) ->
                 );
             }
             if let run::Status::Unstable(msg) = &outcome.status {
-                return fail(3, &format!("run stopped, unstable at {msg}; last good output kept in {}", out.display()));
+                return fail(
+                    3,
+                    &format!(
+                        "run stopped, unstable at {msg}; last good output kept in {}",
+                        out.display()
+                    ),
+                );
             }
             let failed = outcome.checks.iter().filter(|c| !c.pass).count();
             if failed > 0 {
-                return fail(2, &format!("{failed} check(s) failed; see {}", out.join("summary.json").display()));
+                return fail(
+                    2,
+                    &format!(
+                        "{failed} check(s) failed; see {}",
+                        out.join("summary.json").display()
+                    ),
+                );
             }
             eprintln!("grains: done; outputs in {}", out.display());
             ExitCode::SUCCESS

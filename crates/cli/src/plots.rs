@@ -1,12 +1,13 @@
 //! PNG plots written at the end of a run from its history.
 
 use grains_core::history::History;
-use grains_core::plot::{LinePlot, Series};
-use grains_dem::Setup;
+use grains_core::plot::{scatter_disks_png, LinePlot, Series};
+use grains_dem::{Setup, State};
 use std::path::Path;
 
-/// Writes `energies.png`, `contacts.png` and, with walls, `wall_forces.png`.
-pub fn write_all(dir: &Path, h: &History, setup: &Setup) -> anyhow::Result<()> {
+/// Writes `energies.png`, `kinetic_energy.png` (log scale), `contacts.png`, with walls
+/// `wall_forces.png`, and a map of the final particles coloured by speed.
+pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir)?;
     let col = |name: &str| h.column(name).unwrap_or_default();
     let t = col("time");
@@ -23,22 +24,67 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup) -> anyhow::Result<()> {
         x_label: "time (s)",
         y_label: "energy (J/m)",
         series: vec![
-            Series { name: "kinetic", x: &t, y: &kinetic },
-            Series { name: "elastic (contacts)", x: &t, y: &elastic },
-            Series { name: "potential − initial", x: &t, y: &potential },
-            Series { name: "total − initial", x: &t, y: &total },
+            Series {
+                name: "kinetic",
+                x: &t,
+                y: &kinetic,
+            },
+            Series {
+                name: "elastic (contacts)",
+                x: &t,
+                y: &elastic,
+            },
+            Series {
+                name: "potential − initial",
+                x: &t,
+                y: &potential,
+            },
+            Series {
+                name: "total − initial",
+                x: &t,
+                y: &total,
+            },
         ],
         log_y: false,
         points: false,
     }
     .write_png(&dir.join("energies.png"))?;
 
+    LinePlot {
+        title: "Kinetic energy",
+        x_label: "time (s)",
+        y_label: "energy (J/m)",
+        series: vec![Series {
+            name: "kinetic",
+            x: &t,
+            y: &kinetic,
+        }],
+        log_y: true,
+        points: false,
+    }
+    .write_png(&dir.join("kinetic_energy.png"))?;
+
+    let p = &state.particles;
+    let speed: Vec<f64> = p.vel.iter().map(|v| v.length()).collect();
+    scatter_disks_png(
+        &dir.join("particles_final.png"),
+        &format!("Particles at t = {:.4e} s", state.time),
+        &p.pos,
+        &p.radius,
+        &speed,
+        "speed (m/s)",
+    )?;
+
     let coordination = col("coordination");
     LinePlot {
         title: "Mean coordination number",
         x_label: "time (s)",
         y_label: "contacts per particle",
-        series: vec![Series { name: "coordination", x: &t, y: &coordination }],
+        series: vec![Series {
+            name: "coordination",
+            x: &t,
+            y: &coordination,
+        }],
         log_y: false,
         points: false,
     }
@@ -60,7 +106,14 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup) -> anyhow::Result<()> {
             title: "Force of the particles on each wall",
             x_label: "time (s)",
             y_label: "force (N/m)",
-            series: data.iter().map(|(k, v)| Series { name: k, x: &t, y: v }).collect(),
+            series: data
+                .iter()
+                .map(|(k, v)| Series {
+                    name: k,
+                    x: &t,
+                    y: v,
+                })
+                .collect(),
             log_y: false,
             points: false,
         }

@@ -61,7 +61,8 @@ impl Probes {
         let mut p = Probes::default();
         for c in checks {
             match c {
-                CheckSpec::Restitution { particles, .. } | CheckSpec::ContactTime { particles, .. } => {
+                CheckSpec::Restitution { particles, .. }
+                | CheckSpec::ContactTime { particles, .. } => {
                     if !p.collisions.iter().any(|k| k.ids == *particles) {
                         p.collisions.push(Collision {
                             ids: *particles,
@@ -77,7 +78,11 @@ impl Probes {
                 }
                 CheckSpec::ImpactTangentialVelocity { particle, wall, .. }
                 | CheckSpec::ImpactAngularVelocity { particle, wall, .. } => {
-                    let w = setup.walls.iter().position(|x| &x.name == wall).unwrap_or(0);
+                    let w = setup
+                        .walls
+                        .iter()
+                        .position(|x| &x.name == wall)
+                        .unwrap_or(0);
                     if !p.impacts.iter().any(|k| k.id == *particle && k.wall == w) {
                         p.impacts.push(Impact {
                             id: *particle,
@@ -142,7 +147,9 @@ impl Probes {
         }
         for m in &mut self.impacts {
             let i = m.at;
-            let Some(touch) = setup.walls[m.wall].shape.nearest(p.pos[i]) else { continue };
+            let Some(touch) = setup.walls[m.wall].shape.nearest(p.pos[i]) else {
+                continue;
+            };
             let overlap = p.radius[i] - touch.distance;
             match m.phase {
                 Phase::Before if overlap > 0.0 => {
@@ -166,13 +173,22 @@ impl Probes {
         for spec in specs {
             let (name, tol) = (spec.name(), spec.tolerance());
             match spec {
-                CheckSpec::Restitution { particles, .. } | CheckSpec::ContactTime { particles, .. } => {
-                    let c = self.collisions.iter().find(|c| c.ids == *particles).expect("recorder");
+                CheckSpec::Restitution { particles, .. }
+                | CheckSpec::ContactTime { particles, .. } => {
+                    let c = self
+                        .collisions
+                        .iter()
+                        .find(|c| c.ids == *particles)
+                        .expect("recorder");
                     let [a, b] = c.at;
                     let m_eff = 1.0 / (p.inv_mass[a] + p.inv_mass[b]);
-                    let pair = setup.pairs.get(p.material[a] as usize, p.material[b] as usize);
+                    let pair = setup
+                        .pairs
+                        .get(p.material[a] as usize, p.material[b] as usize);
                     let (measured, expected) = match spec {
-                        CheckSpec::Restitution { .. } => (-c.vn_after / c.vn_before, pair.restitution(m_eff)),
+                        CheckSpec::Restitution { .. } => {
+                            (-c.vn_after / c.vn_before, pair.restitution(m_eff))
+                        }
                         _ => (c.end - c.start, pair.contact_time(m_eff)),
                     };
                     let mut check = Check::relative(name, measured, expected, tol);
@@ -183,7 +199,11 @@ impl Probes {
                 }
                 CheckSpec::ImpactTangentialVelocity { particle, .. }
                 | CheckSpec::ImpactAngularVelocity { particle, .. } => {
-                    let m = self.impacts.iter().find(|m| m.id == *particle).expect("recorder");
+                    let m = self
+                        .impacts
+                        .iter()
+                        .find(|m| m.id == *particle)
+                        .expect("recorder");
                     let i = m.at;
                     let (v0, w0) = m.before;
                     let n = m.normal;
@@ -198,9 +218,12 @@ impl Probes {
                     // Rigid-body impulse theory: Coulomb-limited tangential impulse, or the
                     // impulse that stops sliding if that is smaller (1 + 1/f: the contact
                     // point's inverse mass with rotation).
-                    let j = -slip.signum() * (pair.mu * (1.0 + e) * vn).min(slip.abs() / (1.0 + 1.0 / f));
+                    let j = -slip.signum()
+                        * (pair.mu * (1.0 + e) * vn).min(slip.abs() / (1.0 + 1.0 / f));
                     let (measured, expected) = match spec {
-                        CheckSpec::ImpactTangentialVelocity { .. } => (m.after.0.dot(t), v0.dot(t) + j),
+                        CheckSpec::ImpactTangentialVelocity { .. } => {
+                            (m.after.0.dot(t), v0.dot(t) + j)
+                        }
                         _ => (m.after.1, w0 + j / (f * r)),
                     };
                     let mut check = Check::relative(name, measured, expected, tol);
@@ -210,7 +233,11 @@ impl Probes {
                     out.push(check);
                 }
                 CheckSpec::WallForceOverWeight { wall, .. } => {
-                    let w = setup.walls.iter().position(|x| &x.name == wall).expect("validated");
+                    let w = setup
+                        .walls
+                        .iter()
+                        .position(|x| &x.name == wall)
+                        .expect("validated");
                     let g = setup.gravity;
                     let weight: f64 = (0..p.len()).map(|i| p.mass(i)).sum::<f64>() * g.length();
                     let along = s.wall_loads[w].force.dot(g.normalize());

@@ -19,8 +19,10 @@ impl Progress {
         let bar = std::io::stderr().is_terminal().then(|| {
             let b = ProgressBar::new(total);
             b.set_style(
-                ProgressStyle::with_template("{bar:40} {pos}/{len} steps  {elapsed} elapsed, ETA {eta}")
-                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
+                ProgressStyle::with_template(
+                    "{bar:40} {pos}/{len} steps  {elapsed} elapsed, ETA {eta}",
+                )
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
             );
             b
         });
@@ -35,7 +37,7 @@ impl Progress {
 
     /// Called after each step.
     pub fn tick(&mut self, step: u64) {
-        if step % self.stride != 0 {
+        if !step.is_multiple_of(self.stride) {
             return;
         }
         if let Some(b) = &self.bar {
@@ -44,7 +46,10 @@ impl Progress {
             let pct = 100 * step / self.total;
             let secs = self.started.elapsed().as_secs_f64();
             let eta = secs * (self.total - step) as f64 / step.max(1) as f64;
-            eprintln!("  {pct:3}%  step {step}/{}  {secs:.1} s elapsed, ETA {eta:.1} s", self.total);
+            eprintln!(
+                "  {pct:3}%  step {step}/{}  {secs:.1} s elapsed, ETA {eta:.1} s",
+                self.total
+            );
             self.next_line += (self.total / 10).max(1);
         }
     }

@@ -39,10 +39,22 @@ pub struct Outcome {
 const RUNAWAY_OVERLAP: f64 = 0.5;
 
 /// Runs an assembled scenario, writing every output into `out`.
-pub fn run(scenario: &Scenario, text: &str, asm: Assembled, out: &Path, threads: usize) -> anyhow::Result<Outcome> {
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create output directory {}", out.display()))?;
+pub fn run(
+    scenario: &Scenario,
+    text: &str,
+    asm: Assembled,
+    out: &Path,
+    threads: usize,
+) -> anyhow::Result<Outcome> {
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("cannot create output directory {}", out.display()))?;
     write_atomic(&out.join("scenario.toml"), text.as_bytes())?;
-    let Assembled { setup, particles, dt_critical, steps } = asm;
+    let Assembled {
+        setup,
+        particles,
+        dt_critical,
+        steps,
+    } = asm;
     let n = particles.len();
     let mut state = State::new(&setup, particles);
     let mut probes = Probes::new(&setup, &scenario.checks);
@@ -61,6 +73,11 @@ pub fn run(scenario: &Scenario, text: &str, asm: Assembled, out: &Path, threads:
         ratio * weight * mean_d
     });
 
+    let rest_time = scenario
+        .run
+        .stop_rest_time
+        .unwrap_or(20.0 * history_every as f64 * setup.dt);
+    let mut rest_since: Option<f64> = None;
     let first = diagnostics::measure(&setup, &state);
     history.push(&history_row(&setup, &state, &first))?;
     frames.write(&setup, &state)?;
@@ -71,19 +88,27 @@ pub fn run(scenario: &Scenario, text: &str, asm: Assembled, out: &Path, threads:
     while state.step < steps {
         step(&setup, &mut state);
         probes.observe(&setup, &state);
-        if state.step % history_every == 0 || state.step == steps {
+        if state.step.is_multiple_of(history_every) || state.step == steps {
             let d = diagnostics::measure(&setup, &state);
             if let Some(why) = instability(&d) {
-                status = Status::Unstable(format!("step {} (t = {:.6e} s): {why}", state.step, state.time));
+                status = Status::Unstable(format!(
+                    "step {} (t = {:.6e} s): {why}",
+                    state.step, state.time
+                ));
                 break;
             }
             history.push(&history_row(&setup, &state, &d))?;
             if rest_energy.is_some_and(|limit| d.kinetic() < limit) {
-                status = Status::AtRest;
-                break;
+                let since = *rest_since.get_or_insert(state.time);
+                if state.time - since >= rest_time {
+                    status = Status::AtRest;
+                    break;
+                }
+            } else {
+                rest_since = None;
             }
         }
-        if state.step % frame_every == 0 {
+        if state.step.is_multiple_of(frame_every) {
             frames.write(&setup, &state)?;
             last_frame_step = state.step;
         }
@@ -99,7 +124,7 @@ pub fn run(scenario: &Scenario, text: &str, asm: Assembled, out: &Path, threads:
     let checks = probes.checks(&setup, &state, &scenario.checks);
     let final_diag = diagnostics::measure(&setup, &state);
     let figures = figures(scenario, &setup, &state, &final_diag);
-    plots::write_all(&out.join("plots"), &history, &setup)?;
+    plots::write_all(&out.join("plots"), &history, &setup, &state)?;
     let sum = summary::Summary {
         name: scenario.name.clone(),
         status: match &status {
@@ -143,9 +168,20 @@ fn instability(d: &Diagnostics) -> Option<String> {
 
 fn history_columns(setup: &Setup) -> Vec<String> {
     let mut c: Vec<String> = [
-        "time", "step", "kinetic", "kinetic_rotational", "potential", "elastic", "total",
-        "momentum_x", "momentum_y", "pair_contacts", "wall_contacts", "coordination",
-        "max_overlap_ratio", "neighbour_builds",
+        "time",
+        "step",
+        "kinetic",
+        "kinetic_rotational",
+        "potential",
+        "elastic",
+        "total",
+        "momentum_x",
+        "momentum_y",
+        "pair_contacts",
+        "wall_contacts",
+        "coordination",
+        "max_overlap_ratio",
+        "neighbour_builds",
     ]
     .iter()
     .map(|s| s.to_string())
@@ -182,24 +218,44 @@ fn history_row(setup: &Setup, s: &State, d: &Diagnostics) -> Vec<f64> {
     row
 }
 
-fn figures(scenario: &Scenario, setup: &Setup, s: &State, d: &Diagnostics) -> serde_json::Map<String, serde_json::Value> {
+fn figures(
+    scenario: &Scenario,
+    setup: &Setup,
+    s: &State,
+    d: &Diagnostics,
+) -> serde_json::Map<String, serde_json::Value> {
     let p = &s.particles;
     let n = p.len();
     let mut out = serde_json::Map::new();
     out.insert("kinetic_energy_final".into(), d.kinetic().into());
-    out.insert("mean_coordination_final".into(), d.mean_coordination(n).into());
+    out.insert(
+        "mean_coordination_final".into(),
+        d.mean_coordination(n).into(),
+    );
     for f in &scenario.figures {
         match f {
             FigureSpec::MeanCoordination { name } => {
                 out.insert(name.clone(), d.mean_coordination(n).into());
             }
-            FigureSpec::PackingFraction { name, region, margin } => {
+            FigureSpec::PackingFraction {
+                name,
+                region,
+                margin,
+            } => {
                 let mean_d = 2.0 * p.radius.iter().sum::<f64>() / n as f64;
                 let (lo, hi) = match region {
                     Some(r) => (glam::DVec2::from(r.lo), glam::DVec2::from(r.hi)),
                     None => {
-                        let mut lo = p.pos.iter().copied().fold(glam::DVec2::INFINITY, glam::DVec2::min);
-                        let mut hi = p.pos.iter().copied().fold(glam::DVec2::NEG_INFINITY, glam::DVec2::max);
+                        let mut lo = p
+                            .pos
+                            .iter()
+                            .copied()
+                            .fold(glam::DVec2::INFINITY, glam::DVec2::min);
+                        let mut hi = p
+                            .pos
+                            .iter()
+                            .copied()
+                            .fold(glam::DVec2::NEG_INFINITY, glam::DVec2::max);
                         for a in 0..2 {
                             if setup.domain.periodic[a] {
                                 lo[a] = setup.domain.lo[a];
@@ -219,7 +275,11 @@ fn figures(scenario: &Scenario, setup: &Setup, s: &State, d: &Diagnostics) -> se
                     .map(|i| std::f64::consts::PI * p.radius[i].powi(2))
                     .sum();
                 let region_area = (hi - lo).x.max(0.0) * (hi - lo).y.max(0.0);
-                let phi = if region_area > 0.0 { area / region_area } else { f64::NAN };
+                let phi = if region_area > 0.0 {
+                    area / region_area
+                } else {
+                    f64::NAN
+                };
                 out.insert(name.clone(), phi.into());
             }
         }

@@ -232,6 +232,11 @@ pub struct RunSpec {
     /// of lifting every particle by one mean diameter): the bed is then at rest.
     #[serde(default)]
     pub stop_kinetic_ratio: Option<f64>,
+    /// How long (s) the kinetic energy must stay below that threshold before the run
+    /// stops, so that a momentary minimum of a bouncing bed does not count as rest.
+    /// Default: 20 history intervals.
+    #[serde(default)]
+    pub stop_rest_time: Option<f64>,
 }
 
 fn default_safety() -> f64 {

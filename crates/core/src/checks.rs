@@ -48,7 +48,14 @@ fn nullable_f64<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
 }
 
 impl Check {
-    fn make(name: &str, kind: &str, measured: f64, expected: f64, tolerance: f64, pass: bool) -> Self {
+    fn make(
+        name: &str,
+        kind: &str,
+        measured: f64,
+        expected: f64,
+        tolerance: f64,
+        pass: bool,
+    ) -> Self {
         Self {
             name: name.to_string(),
             kind: kind.to_string(),
@@ -191,7 +198,9 @@ mod tests {
         let line = c.to_string();
         assert!(line.starts_with("PASS  e: measured 8.1e-1"), "{line}");
         assert!((c.relative_error() - 0.0125).abs() < 1e-12);
-        assert!(Check::at_most("o", 2.0, 1.0).to_string().starts_with("FAIL"));
+        assert!(Check::at_most("o", 2.0, 1.0)
+            .to_string()
+            .starts_with("FAIL"));
         assert_eq!(Check::absolute("z", 0.0, 0.0, 1.0).relative_error(), 0.0);
     }
 }

@@ -52,11 +52,12 @@ mod tests {
 
     #[test]
     fn seeded_is_deterministic() {
-        let a: Vec<u64> = (0..5).map({
-            let mut r = seeded(42);
-            move |_| r.next_u64()
-        })
-        .collect();
+        let a: Vec<u64> = (0..5)
+            .map({
+                let mut r = seeded(42);
+                move |_| r.next_u64()
+            })
+            .collect();
         let mut r = seeded(42);
         let b: Vec<u64> = (0..5).map(|_| r.next_u64()).collect();
         assert_eq!(a, b);

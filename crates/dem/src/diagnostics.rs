@@ -79,8 +79,8 @@ pub fn measure(setup: &Setup, s: &State) -> Diagnostics {
                     let overlap = p.radius[i] + p.radius[j] - dist;
                     if overlap > 0.0 {
                         let pp = setup.pairs.get(mi, p.material[j] as usize);
-                        d.elastic += 0.5 * pp.kn * overlap * overlap
-                            + 0.5 * pp.kt * list.shear[e].powi(2);
+                        d.elastic +=
+                            0.5 * pp.kn * overlap * overlap + 0.5 * pp.kt * list.shear[e].powi(2);
                         d.pair_contacts += 1;
                         let rmin = p.radius[i].min(p.radius[j]);
                         d.max_overlap_ratio = d.max_overlap_ratio.max(overlap / rmin);
@@ -113,11 +113,18 @@ fn wall_terms(setup: &Setup, s: &State, i: usize, d: &mut Diagnostics) {
     let p = &s.particles;
     let nw = setup.walls.len();
     for (w, wall) in setup.walls.iter().enumerate() {
-        let Some(t) = wall.shape.nearest(p.pos[i]) else { continue };
+        let Some(t) = wall.shape.nearest(p.pos[i]) else {
+            continue;
+        };
         let overlap = p.radius[i] - t.distance;
         if overlap > 0.0 {
             let pp = setup.wall_pair(w, p.material[i] as usize);
-            let xi = s.contacts.wall_shear.get(i * nw + w).copied().unwrap_or(0.0);
+            let xi = s
+                .contacts
+                .wall_shear
+                .get(i * nw + w)
+                .copied()
+                .unwrap_or(0.0);
             d.elastic += 0.5 * pp.kn * overlap * overlap + 0.5 * pp.kt * xi * xi;
             d.wall_contacts += 1;
             d.max_overlap_ratio = d.max_overlap_ratio.max(overlap / p.radius[i]);
@@ -164,4 +171,3 @@ pub fn wall_overlap(setup: &Setup, p: &Particles, i: usize, w: usize) -> Option<
 pub fn index_of(p: &Particles, id: u32) -> Option<usize> {
     p.id.iter().position(|&k| k == id)
 }
-

@@ -26,6 +26,7 @@ pub struct ContactForce {
 /// contact's tangential spring, advanced by v_t·`dt` (pass `dt = 0` to evaluate without
 /// advancing it).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub fn contact_force(
     p: &PairParams,
     m_eff: f64,
@@ -51,7 +52,11 @@ pub fn contact_force(
         // Slide: the spring is reset so that spring + dashpot sit exactly on the cap
         // (the LAMMPS convention), keeping the history consistent with the force.
         ft = cap.copysign(ft);
-        *shear = if p.kt > 0.0 { -(ft + ct * vt) / p.kt } else { 0.0 };
+        *shear = if p.kt > 0.0 {
+            -(ft + ct * vt) / p.kt
+        } else {
+            0.0
+        };
     }
     ContactForce {
         normal: fnorm,
@@ -67,11 +72,8 @@ pub fn pair_contacts(setup: &Setup, p: &Particles, list: &mut ContactList, dt: f
     let nbr = &list.nbr;
     // Split the entry arrays at chunk boundaries so each task owns its slice.
     let mut jobs = Vec::with_capacity(n.div_ceil(CHUNK));
-    let (mut shear, mut fpair, mut ftan) = (
-        &mut list.shear[..],
-        &mut list.fpair[..],
-        &mut list.ftan[..],
-    );
+    let (mut shear, mut fpair, mut ftan) =
+        (&mut list.shear[..], &mut list.fpair[..], &mut list.ftan[..]);
     let mut done = 0usize;
     for c in 0..n.div_ceil(CHUNK) {
         let range = c * CHUNK..((c + 1) * CHUNK).min(n);
@@ -85,43 +87,44 @@ pub fn pair_contacts(setup: &Setup, p: &Particles, list: &mut ContactList, dt: f
         ftan = t_rest;
         done += len;
     }
-    jobs.into_par_iter().for_each(|(range, shear, fpair, ftan)| {
-        let base = row[range.start] as usize;
-        for i in range {
-            let (pi, ri, vi, wi) = (p.pos[i], p.radius[i], p.vel[i], p.omega[i]);
-            let mi = p.material[i] as usize;
-            for e in row[i] as usize..row[i + 1] as usize {
-                let j = nbr[e] as usize;
-                let k = e - base;
-                let d = setup.domain.min_image(p.pos[j] - pi);
-                let rsum = ri + p.radius[j];
-                let dist2 = d.length_squared();
-                if dist2 >= rsum * rsum || dist2 == 0.0 {
-                    shear[k] = 0.0;
-                    fpair[k] = DVec2::ZERO;
-                    ftan[k] = 0.0;
-                    continue;
+    jobs.into_par_iter()
+        .for_each(|(range, shear, fpair, ftan)| {
+            let base = row[range.start] as usize;
+            for i in range {
+                let (pi, ri, vi, wi) = (p.pos[i], p.radius[i], p.vel[i], p.omega[i]);
+                let mi = p.material[i] as usize;
+                for e in row[i] as usize..row[i + 1] as usize {
+                    let j = nbr[e] as usize;
+                    let k = e - base;
+                    let d = setup.domain.min_image(p.pos[j] - pi);
+                    let rsum = ri + p.radius[j];
+                    let dist2 = d.length_squared();
+                    if dist2 >= rsum * rsum || dist2 == 0.0 {
+                        shear[k] = 0.0;
+                        fpair[k] = DVec2::ZERO;
+                        ftan[k] = 0.0;
+                        continue;
+                    }
+                    let dist = dist2.sqrt();
+                    let nrm = d / dist;
+                    let params = setup.pairs.get(mi, p.material[j] as usize);
+                    let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
+                    let spin = ri * wi + p.radius[j] * p.omega[j];
+                    let f = contact_force(
+                        params,
+                        m_eff,
+                        nrm,
+                        rsum - dist,
+                        vi - p.vel[j],
+                        spin,
+                        &mut shear[k],
+                        dt,
+                    );
+                    fpair[k] = -f.normal * nrm + f.tangential * nrm.perp();
+                    ftan[k] = f.tangential;
                 }
-                let dist = dist2.sqrt();
-                let nrm = d / dist;
-                let params = setup.pairs.get(mi, p.material[j] as usize);
-                let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
-                let spin = ri * wi + p.radius[j] * p.omega[j];
-                let f = contact_force(
-                    params,
-                    m_eff,
-                    nrm,
-                    rsum - dist,
-                    vi - p.vel[j],
-                    spin,
-                    &mut shear[k],
-                    dt,
-                );
-                fpair[k] = -f.normal * nrm + f.tangential * nrm.perp();
-                ftan[k] = f.tangential;
             }
-        }
-    });
+        });
 }
 
 #[cfg(test)]
@@ -138,7 +141,16 @@ mod tests {
             ..Default::default()
         };
         let mut xi = 0.0;
-        let f = contact_force(&p, 1.0, DVec2::X, 1e-3, DVec2::new(0.0, 1.0), 0.0, &mut xi, 1e-2);
+        let f = contact_force(
+            &p,
+            1.0,
+            DVec2::X,
+            1e-3,
+            DVec2::new(0.0, 1.0),
+            0.0,
+            &mut xi,
+            1e-2,
+        );
         assert!((f.normal - 10.0).abs() < 1e-12);
         assert!((f.tangential.abs() - 3.0).abs() < 1e-12);
         assert!((p.kt * xi + f.tangential).abs() < 1e-12);

@@ -105,9 +105,13 @@ impl CellGrid {
         let mut out = [0usize; 9];
         let mut k = 0;
         for dy in -1i64..=1 {
-            let Some(y) = self.step(c[1], dy, 1) else { continue };
+            let Some(y) = self.step(c[1], dy, 1) else {
+                continue;
+            };
             for dx in -1i64..=1 {
-                let Some(x) = self.step(c[0], dx, 0) else { continue };
+                let Some(x) = self.step(c[0], dx, 0) else {
+                    continue;
+                };
                 let id = self.index([x, y]);
                 if !out[..k].contains(&id) {
                     out[k] = id;
@@ -185,7 +189,11 @@ impl ContactList {
             let old_ws = std::mem::take(&mut self.wall_shear);
             self.wall_shear = perm
                 .iter()
-                .flat_map(|&p| old_ws[p as usize * nw..(p as usize + 1) * nw].iter().copied())
+                .flat_map(|&p| {
+                    old_ws[p as usize * nw..(p as usize + 1) * nw]
+                        .iter()
+                        .copied()
+                })
                 .collect();
         }
 
@@ -275,10 +283,7 @@ impl ContactList {
                     let p = particles.pos[i];
                     let r = particles.radius[i];
                     for (w, wall) in setup.walls.iter().enumerate() {
-                        let close = wall
-                            .shape
-                            .nearest(p)
-                            .is_none_or(|t| t.distance < r + skin);
+                        let close = wall.shape.nearest(p).is_none_or(|t| t.distance < r + skin);
                         if close {
                             *mask |= 1 << w;
                         } else {

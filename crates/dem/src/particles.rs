@@ -59,7 +59,8 @@ impl Particles {
         self.omega.push(omega);
         self.radius.push(radius);
         self.inv_mass.push(1.0 / mass);
-        self.inv_inertia.push(1.0 / (inertia_factor * mass * radius * radius));
+        self.inv_inertia
+            .push(1.0 / (inertia_factor * mass * radius * radius));
         self.material.push(material);
         self.force.push(DVec2::ZERO);
         self.torque.push(0.0);

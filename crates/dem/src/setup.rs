@@ -46,14 +46,49 @@ pub struct SetupError {
 
 impl SetupError {
     /// Builds an error from its three parts.
-    pub fn new(key: impl Into<String>, value: impl ToString, allowed: impl Into<String>) -> Self {
+    pub fn new(key: impl Into<String>, value: impl Shown, allowed: impl Into<String>) -> Self {
         SetupError {
             key: key.into(),
-            value: value.to_string(),
+            value: value.shown(),
             allowed: allowed.into(),
         }
     }
 }
+
+/// How a value appears in an error message: numbers far from 1 in scientific notation
+/// (`1e-6`, not `0.000001`), so the user recognises what they wrote.
+pub trait Shown {
+    /// The value as text.
+    fn shown(&self) -> String;
+}
+
+impl Shown for f64 {
+    fn shown(&self) -> String {
+        let a = self.abs();
+        if a == 0.0 || (1e-3..1e6).contains(&a) || !a.is_finite() {
+            format!("{self}")
+        } else {
+            format!("{self:e}")
+        }
+    }
+}
+
+impl Shown for &f64 {
+    fn shown(&self) -> String {
+        (**self).shown()
+    }
+}
+
+macro_rules! shown_by_display {
+    ($($t:ty),*) => {$(
+        impl Shown for $t {
+            fn shown(&self) -> String {
+                self.to_string()
+            }
+        }
+    )*};
+}
+shown_by_display!(&str, String, &String, usize, &usize, u64, u32, i64);
 
 fn positive(key: String, v: f64) -> Result<(), SetupError> {
     if v.is_finite() && v > 0.0 {
@@ -70,7 +105,11 @@ pub fn validate_materials(model: &ContactModel, materials: &[Material]) -> Resul
         positive(key("density"), m.density)?;
         let f = m.inertia_factor;
         if !(f.is_finite() && f > 0.0 && f <= 1.0) {
-            return Err(SetupError::new(key("inertia_factor"), f, "must be in (0, 1]"));
+            return Err(SetupError::new(
+                key("inertia_factor"),
+                f,
+                "must be in (0, 1]",
+            ));
         }
         let required = matches!(model, ContactModel::Material { .. });
         let need = |field: &str, v: Option<f64>| -> Result<Option<f64>, SetupError> {
@@ -98,7 +137,11 @@ pub fn validate_materials(model: &ContactModel, materials: &[Material]) -> Resul
         }
         if let Some(mu) = need("friction", m.friction)? {
             if !(mu.is_finite() && mu >= 0.0) {
-                return Err(SetupError::new(key("friction"), mu, "must be a finite number >= 0"));
+                return Err(SetupError::new(
+                    key("friction"),
+                    mu,
+                    "must be a finite number >= 0",
+                ));
             }
         }
     }
@@ -113,7 +156,11 @@ pub fn validate_materials(model: &ContactModel, materials: &[Material]) -> Resul
     {
         positive("contact.kn".into(), kn)?;
         positive("contact.kt".into(), kt)?;
-        for (k, v) in [("contact.gamma_n", gamma_n), ("contact.gamma_t", gamma_t), ("contact.mu", mu)] {
+        for (k, v) in [
+            ("contact.gamma_n", gamma_n),
+            ("contact.gamma_t", gamma_t),
+            ("contact.mu", mu),
+        ] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(SetupError::new(k, v, "must be a finite number >= 0"));
             }

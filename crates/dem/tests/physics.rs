@@ -23,7 +23,16 @@ fn setup(materials: Vec<Material>, walls: Vec<Wall>, gravity: DVec2, dt: f64) ->
         hi: DVec2::new(0.01, 0.01),
         periodic: [false, false],
     };
-    Setup::new(domain, materials, ContactModel::default(), walls, gravity, dt, 5e-5).unwrap()
+    Setup::new(
+        domain,
+        materials,
+        ContactModel::default(),
+        walls,
+        gravity,
+        dt,
+        5e-5,
+    )
+    .unwrap()
 }
 
 /// Runs a head-on collision and returns (restitution, contact time).
@@ -32,8 +41,24 @@ fn head_on(e: f64, limit_damping: bool) -> (f64, f64) {
     s.model = ContactModel::Material { limit_damping };
     s.pairs = grains_dem::PairTable::new(&s.model, &s.materials);
     let mut p = Particles::default();
-    p.push(DVec2::new(0.004, 0.005), 5e-4, 2560.0, 0.5, 0, DVec2::X, 0.0);
-    p.push(DVec2::new(0.005001, 0.005), 5e-4, 2560.0, 0.5, 0, -DVec2::X, 0.0);
+    p.push(
+        DVec2::new(0.004, 0.005),
+        5e-4,
+        2560.0,
+        0.5,
+        0,
+        DVec2::X,
+        0.0,
+    );
+    p.push(
+        DVec2::new(0.005001, 0.005),
+        5e-4,
+        2560.0,
+        0.5,
+        0,
+        -DVec2::X,
+        0.0,
+    );
     let mut st = State::new(&s, p);
     let (mut t_in, mut t_out) = (None, None);
     for _ in 0..2000 {
@@ -55,12 +80,18 @@ fn head_on(e: f64, limit_damping: bool) -> (f64, f64) {
 fn head_on_restitution_and_contact_time() {
     for e in [0.1, 0.5, 0.9] {
         let (measured, tc) = head_on(e, false);
-        assert!((measured - e).abs() < 0.01 * e, "e = {e}: measured {measured}");
+        assert!(
+            (measured - e).abs() < 0.01 * e,
+            "e = {e}: measured {measured}"
+        );
         let m_eff = 2560.0 * std::f64::consts::PI * 2.5e-7 / 2.0;
         let w0 = (72e9f64 / m_eff).sqrt();
         let z = damping_ratio(e);
         let expected = std::f64::consts::PI / (w0 * (1.0 - z * z).sqrt());
-        assert!((tc - expected).abs() < 0.03 * expected, "e = {e}: tc {tc} vs {expected}");
+        assert!(
+            (tc - expected).abs() < 0.03 * expected,
+            "e = {e}: tc {tc} vs {expected}"
+        );
     }
 }
 
@@ -75,8 +106,24 @@ fn limit_damping_raises_restitution() {
 fn elastic_collision_conserves_energy_and_momentum() {
     let s = setup(vec![quartz(1.0)], vec![], DVec2::ZERO, 2e-9);
     let mut p = Particles::default();
-    p.push(DVec2::new(0.004, 0.005), 5e-4, 2560.0, 0.5, 0, DVec2::new(1.0, 0.2), 0.0);
-    p.push(DVec2::new(0.005001, 0.0052), 4e-4, 2560.0, 0.5, 0, -DVec2::X, 50.0);
+    p.push(
+        DVec2::new(0.004, 0.005),
+        5e-4,
+        2560.0,
+        0.5,
+        0,
+        DVec2::new(1.0, 0.2),
+        0.0,
+    );
+    p.push(
+        DVec2::new(0.005001, 0.0052),
+        4e-4,
+        2560.0,
+        0.5,
+        0,
+        -DVec2::X,
+        50.0,
+    );
     let mut st = State::new(&s, p);
     let d0 = measure(&s, &st);
     for _ in 0..3000 {
@@ -85,21 +132,37 @@ fn elastic_collision_conserves_energy_and_momentum() {
     let d1 = measure(&s, &st);
     assert!(d1.momentum.distance(d0.momentum) < 1e-12 * d0.momentum.length().max(1e-3));
     // Friction dissipates during sliding, so only require no energy gain.
-    assert!(d1.total() <= d0.total() * (1.0 + 1e-6), "{} > {}", d1.total(), d0.total());
+    assert!(
+        d1.total() <= d0.total() * (1.0 + 1e-6),
+        "{} > {}",
+        d1.total(),
+        d0.total()
+    );
 }
 
 #[test]
 fn resting_disk_on_floor_carries_its_weight() {
     let floor = Wall {
         name: "floor".into(),
-        shape: WallShape::Segment { a: [0.0, 0.0], b: [0.01, 0.0] },
+        shape: WallShape::Segment {
+            a: [0.0, 0.0],
+            b: [0.01, 0.0],
+        },
         material: None,
     };
     let mut m = quartz(0.3);
     m.youngs = Some(1e6);
     let s = setup(vec![m], vec![floor], DVec2::new(0.0, -9.81), 1e-6);
     let mut p = Particles::default();
-    p.push(DVec2::new(0.005, 5e-4), 5e-4, 2560.0, 0.5, 0, DVec2::ZERO, 0.0);
+    p.push(
+        DVec2::new(0.005, 5e-4),
+        5e-4,
+        2560.0,
+        0.5,
+        0,
+        DVec2::ZERO,
+        0.0,
+    );
     let mut st = State::new(&s, p);
     for _ in 0..20000 {
         step(&s, &mut st);

@@ -66,7 +66,8 @@ impl AppendedFile {
             ),
         );
         self.blob.reserve(8 + byte_len);
-        self.blob.extend_from_slice(&(byte_len as u64).to_le_bytes());
+        self.blob
+            .extend_from_slice(&(byte_len as u64).to_le_bytes());
         fill(&mut self.blob);
         debug_assert_eq!(self.blob.len(), offset + 8 + byte_len);
     }
@@ -87,9 +88,7 @@ impl AppendedFile {
     /// Emits the `Points` array (three `Float64` components).
     pub(crate) fn points(&mut self, depth: usize, points: &[[f64; 3]]) {
         self.array_with(depth, "Float64", "Points", 3, points.len() * 24, |b| {
-            for p in points {
-                extend_f64(b, p);
-            }
+            extend_f64(b, points.as_flattened())
         });
     }
 
@@ -100,9 +99,7 @@ impl AppendedFile {
 
     /// Emits a `UInt8` array (cell types).
     pub(crate) fn u8_array(&mut self, depth: usize, name: &str, v: &[u8]) {
-        self.array_with(depth, "UInt8", name, 1, v.len(), |b| {
-            b.extend_from_slice(v)
-        });
+        self.array_with(depth, "UInt8", name, 1, v.len(), |b| b.extend_from_slice(v));
     }
 
     /// Emits `<PointData>`/`<CellData>` with its arrays; nothing if empty.

@@ -147,8 +147,10 @@ mod tests {
         pd.points.push([-1.0, 0.0, 0.0]);
         pd.points.push([1.0, 0.0, 0.0]);
         pd.lines.push(vec![3, 4]);
-        pd.point_data
-            .push(DataArray::scalar_f64("radius", vec![0.5, 0.25, 1.0, 0.0, 0.0]));
+        pd.point_data.push(DataArray::scalar_f64(
+            "radius",
+            vec![0.5, 0.25, 1.0, 0.0, 0.0],
+        ));
         pd.point_data.push(DataArray::vector2_f64(
             "velocity",
             &[DVec2::new(1.0, 2.0); 5],
@@ -189,7 +191,10 @@ mod tests {
 
         let text = std::fs::read(&path).unwrap();
         let head = String::from_utf8_lossy(&text[..400]);
-        assert!(head.contains("NumberOfVerts=\"3\" NumberOfLines=\"1\""), "{head}");
+        assert!(
+            head.contains("NumberOfVerts=\"3\" NumberOfLines=\"1\""),
+            "{head}"
+        );
     }
 
     #[test]
@@ -232,7 +237,9 @@ mod tests {
         pd.write(&path).unwrap();
         let arrays = read_appended_arrays(&path).unwrap();
         assert_eq!(
-            find_array(&arrays, "PointData", "a<b & \"c\"").unwrap().values,
+            find_array(&arrays, "PointData", "a<b & \"c\"")
+                .unwrap()
+                .values,
             vec![7.0]
         );
     }

@@ -39,8 +39,8 @@ pub fn find_array<'a>(arrays: &'a [ReadArray], section: &str, name: &str) -> Opt
 pub fn read_appended_arrays(path: &Path) -> io::Result<Vec<ReadArray>> {
     let bytes = fs::read(path)?;
     let (header, data) = split_appended(&bytes)?;
-    let header = std::str::from_utf8(header)
-        .map_err(|_| invalid("VTK XML header is not UTF-8".into()))?;
+    let header =
+        std::str::from_utf8(header).map_err(|_| invalid("VTK XML header is not UTF-8".into()))?;
 
     let mut stack: Vec<String> = Vec::new();
     let mut out = Vec::new();
@@ -125,7 +125,9 @@ fn read_array(section: String, attrs: &[(String, String)], data: &[u8]) -> io::R
         .map_err(|_| ctx("bad offset"))?;
     let vtk_type = attr(attrs, "type").ok_or_else(|| ctx("missing type"))?;
 
-    let len_end = offset.checked_add(8).ok_or_else(|| ctx("offset overflows"))?;
+    let len_end = offset
+        .checked_add(8)
+        .ok_or_else(|| ctx("offset overflows"))?;
     let len_bytes = data
         .get(offset..len_end)
         .ok_or_else(|| ctx("offset past end of file"))?;
@@ -154,7 +156,7 @@ fn read_array(section: String, attrs: &[(String, String)], data: &[u8]) -> io::R
 /// or a byte count that is not a whole number of elements.
 fn decode(vtk_type: &str, block: &[u8]) -> Option<Vec<f64>> {
     fn each<const N: usize>(block: &[u8], f: impl Fn([u8; N]) -> f64) -> Option<Vec<f64>> {
-        if block.len() % N != 0 {
+        if !block.len().is_multiple_of(N) {
             return None;
         }
         Some(

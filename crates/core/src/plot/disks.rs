@@ -1,0 +1,235 @@
+//! Particle maps: disks at their true size, coloured by a per-particle value.
+
+use std::path::Path;
+
+use glam::DVec2;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::colormap::viridis;
+use super::ticks::{axis_range, extent, format_linear, plottable};
+use super::{PlotError, FONT};
+use crate::atomic::write_atomic_via_path;
+
+/// Image size; square-ish because packings usually are.
+const SIZE: (u32, u32) = (1200, 1000);
+/// Width reserved at the right for the colour bar.
+const BAR_AREA: u32 = 190;
+const MARGIN: u32 = 20;
+const X_LABELS: u32 = 50;
+const Y_LABELS: u32 = 100;
+/// Colour-bar resolution; more bands than visible colour steps.
+const BAR_BANDS: usize = 128;
+
+/// Draws disks (`centres`, `radii`) filled with the colour of `values` on a
+/// viridis-like scale, with equal x/y scaling and a colour bar labelled
+/// `value_label`. Written to `path` (PNG) atomically.
+///
+/// Disks smaller than a pixel are drawn as single pixels so that dense,
+/// fine packings stay visible and fast (~100k disks). Disks with a
+/// non-finite centre or radius are skipped; a non-finite value is drawn
+/// grey.
+pub fn scatter_disks_png(
+    path: &Path,
+    title: &str,
+    centres: &[DVec2],
+    radii: &[f64],
+    values: &[f64],
+    value_label: &str,
+) -> Result<(), PlotError> {
+    if radii.len() != centres.len() || values.len() != centres.len() {
+        return Err(PlotError::InvalidInput(format!(
+            "{} centres, {} radii and {} values",
+            centres.len(),
+            radii.len(),
+            values.len()
+        )));
+    }
+    let disks: Vec<(DVec2, f64, f64)> = centres
+        .iter()
+        .zip(radii)
+        .zip(values)
+        .filter(|((c, r), _)| plottable(c.x) && plottable(c.y) && plottable(**r))
+        .map(|((c, r), v)| (*c, r.abs(), *v))
+        .collect();
+    write_atomic_via_path(path, |tmp| {
+        let root = BitMapBackend::new(tmp, SIZE).into_drawing_area();
+        root.fill(&WHITE)?;
+        let root = root.titled(title, (FONT, 30))?;
+        let (w, _) = root.dim_in_pixel();
+        let (map, bar) = root.split_horizontally(w.saturating_sub(BAR_AREA));
+        let v_range = axis_range(extent(disks.iter().map(|d| d.2)), 0.0);
+        draw_map(&map, &disks, v_range)?;
+        draw_bar(&bar, v_range, value_label)?;
+        root.present()?;
+        Ok(())
+    })
+}
+
+/// Axis ranges covering all disks, widened along the shorter direction so
+/// one data unit is the same number of pixels on both axes.
+fn equal_ranges(disks: &[(DVec2, f64, f64)], plot_px: (u32, u32)) -> ((f64, f64), (f64, f64)) {
+    let (x0, x1) = axis_range(
+        extent(disks.iter().flat_map(|d| [d.0.x - d.1, d.0.x + d.1])),
+        0.02,
+    );
+    let (y0, y1) = axis_range(
+        extent(disks.iter().flat_map(|d| [d.0.y - d.1, d.0.y + d.1])),
+        0.02,
+    );
+    let (pw, ph) = (plot_px.0.max(1) as f64, plot_px.1.max(1) as f64);
+    // Units per pixel each axis would need; the larger one wins.
+    let upp = ((x1 - x0) / pw).max((y1 - y0) / ph);
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let (hx, hy) = (0.5 * upp * pw, 0.5 * upp * ph);
+    ((cx - hx, cx + hx), (cy - hy, cy + hy))
+}
+
+fn draw_map(
+    area: &DrawingArea<BitMapBackend, Shift>,
+    disks: &[(DVec2, f64, f64)],
+    (v0, v1): (f64, f64),
+) -> Result<(), PlotError> {
+    let (w, h) = area.dim_in_pixel();
+    let plot_px = (
+        w.saturating_sub(2 * MARGIN + Y_LABELS),
+        h.saturating_sub(2 * MARGIN + X_LABELS),
+    );
+    let ((x0, x1), (y0, y1)) = equal_ranges(disks, plot_px);
+    let mut chart = ChartBuilder::on(area)
+        .margin(MARGIN)
+        .x_label_area_size(X_LABELS)
+        .y_label_area_size(Y_LABELS)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    let fx = |v: &f64| format_linear(*v, x0, x1);
+    let fy = |v: &f64| format_linear(*v, y0, y1);
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_label_formatter(&fx)
+        .y_label_formatter(&fy)
+        .label_style((FONT, 16))
+        .draw()?;
+
+    // Pixels per data unit, measured on the chart actually built, so disk
+    // sizes stay true even if the layout differs from the estimate above.
+    let (pw, _) = chart.plotting_area().dim_in_pixel();
+    let scale = pw as f64 / (x1 - x0);
+    let colour = |v: f64| viridis((v - v0) / (v1 - v0));
+    // Plotters draws each element clipped to the plotting area, so disks
+    // straddling the border are cut, not spilled over the labels.
+    let (big, small): (Vec<_>, Vec<_>) = disks.iter().partition(|d| d.1 * scale >= 1.0);
+    chart.draw_series(big.iter().map(|&&(c, r, v)| {
+        Circle::new((c.x, c.y), (r * scale).round() as i32, colour(v).filled())
+    }))?;
+    chart.draw_series(
+        small
+            .iter()
+            .map(|&&(c, _, v)| Pixel::new((c.x, c.y), colour(v))),
+    )?;
+    Ok(())
+}
+
+fn draw_bar(
+    area: &DrawingArea<BitMapBackend, Shift>,
+    (v0, v1): (f64, f64),
+    label: &str,
+) -> Result<(), PlotError> {
+    let mut chart = ChartBuilder::on(area)
+        .margin_top(MARGIN)
+        .margin_bottom(MARGIN + X_LABELS)
+        .margin_left(20)
+        .margin_right(10)
+        .right_y_label_area_size(Y_LABELS + 20)
+        .build_cartesian_2d(0.0..1.0, v0..v1)?;
+    let fy = |v: &f64| format_linear(*v, v0, v1);
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc(label)
+        .y_label_formatter(&fy)
+        .label_style((FONT, 16))
+        .axis_desc_style((FONT, 20))
+        .draw()?;
+    let dv = (v1 - v0) / BAR_BANDS as f64;
+    chart.draw_series((0..BAR_BANDS).map(|k| {
+        let lo = v0 + k as f64 * dv;
+        let t = (k as f64 + 0.5) / BAR_BANDS as f64;
+        Rectangle::new([(0.0, lo), (1.0, lo + dv)], viridis(t).filled())
+    }))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_dir;
+    use super::*;
+
+    fn is_png(path: &Path) -> bool {
+        std::fs::read(path)
+            .map(|b| b.starts_with(b"\x89PNG"))
+            .unwrap_or(false)
+    }
+
+    #[test]
+    fn draws_a_packing() {
+        let mut c = Vec::new();
+        let mut r = Vec::new();
+        let mut v = Vec::new();
+        for i in 0..40 {
+            for j in 0..20 {
+                c.push(DVec2::new(i as f64 * 2e-3, j as f64 * 2e-3));
+                r.push(if (i + j) % 2 == 0 { 1e-3 } else { 0.7e-3 });
+                v.push(j as f64 * 1e-7);
+            }
+        }
+        let p = test_dir().join("disks.png");
+        scatter_disks_png(&p, "packing", &c, &r, &v, "speed [m/s]").unwrap();
+        assert!(is_png(&p));
+    }
+
+    #[test]
+    fn equal_scaling() {
+        let disks = [(DVec2::ZERO, 1.0, 0.0), (DVec2::new(10.0, 0.0), 1.0, 0.0)];
+        let ((x0, x1), (y0, y1)) = equal_ranges(&disks, (800, 400));
+        let ux = (x1 - x0) / 800.0;
+        let uy = (y1 - y0) / 400.0;
+        assert!((ux - uy).abs() < 1e-12 * ux);
+        assert!(x0 <= -1.0 && x1 >= 11.0 && y0 <= -1.0 && y1 >= 1.0);
+    }
+
+    #[test]
+    fn degenerate_inputs_do_not_panic() {
+        let dir = test_dir();
+        let one = [DVec2::new(1.0, 1.0)];
+        scatter_disks_png(&dir.join("d0.png"), "empty", &[], &[], &[], "v").unwrap();
+        scatter_disks_png(&dir.join("d1.png"), "one", &one, &[0.0], &[1.0], "v").unwrap();
+        let c = [
+            DVec2::new(f64::NAN, 0.0),
+            DVec2::ZERO,
+            DVec2::new(1e-9, 0.0),
+        ];
+        let r = [1.0, f64::INFINITY, 1e-12];
+        let v = [f64::NAN, 1.0, f64::NAN];
+        scatter_disks_png(&dir.join("d2.png"), "nan", &c, &r, &v, "v").unwrap();
+        let e = scatter_disks_png(&dir.join("d3.png"), "bad", &one, &[], &[1.0], "v");
+        assert!(matches!(e, Err(PlotError::InvalidInput(_))));
+    }
+
+    #[test]
+    fn hundred_thousand_disks() {
+        let n = 100_000;
+        let side = (n as f64).sqrt() as usize;
+        let c: Vec<DVec2> = (0..n)
+            .map(|k| DVec2::new((k % side) as f64, (k / side) as f64))
+            .collect();
+        let r: Vec<f64> = (0..n).map(|k| 0.3 + 0.2 * ((k % 7) as f64 / 7.0)).collect();
+        let v: Vec<f64> = c.iter().map(|p| p.x + p.y).collect();
+        let p = test_dir().join("many_disks.png");
+        let t = std::time::Instant::now();
+        scatter_disks_png(&p, "100k", &c, &r, &v, "x+y").unwrap();
+        eprintln!("100k disks: {:?}", t.elapsed());
+        assert!(is_png(&p));
+    }
+}

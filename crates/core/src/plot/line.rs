@@ -1,0 +1,376 @@
+//! Line (or marker) plots of one or more `y(x)` series.
+
+use std::path::Path;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::ticks::{axis_range, extent, format_linear, format_pow10, plottable};
+use super::{palette, PlotError, FONT};
+use crate::atomic::write_atomic_via_path;
+
+/// Image size in pixels: wide enough for long time axes, legible when
+/// scaled down in a report.
+const SIZE: (u32, u32) = (1200, 750);
+
+/// One named curve; `x` and `y` must have the same length.
+#[derive(Clone, Copy, Debug)]
+pub struct Series<'a> {
+    /// Legend label (an empty name gets no legend entry).
+    pub name: &'a str,
+    /// Abscissae.
+    pub x: &'a [f64],
+    /// Ordinates.
+    pub y: &'a [f64],
+}
+
+/// A line plot written as PNG.
+#[derive(Clone, Debug)]
+pub struct LinePlot<'a> {
+    /// Caption above the plot.
+    pub title: &'a str,
+    /// X axis label.
+    pub x_label: &'a str,
+    /// Y axis label.
+    pub y_label: &'a str,
+    /// Curves, drawn in order with distinct colours.
+    pub series: Vec<Series<'a>>,
+    /// Logarithmic y axis; non-positive values are skipped.
+    pub log_y: bool,
+    /// Draw markers at the points instead of joining them with lines.
+    pub points: bool,
+}
+
+impl LinePlot<'_> {
+    /// Renders the plot to `path` (PNG), atomically.
+    ///
+    /// Non-finite points (and non-positive ones with `log_y`) are skipped,
+    /// and lines are broken there rather than bridging the gap.
+    pub fn write_png(&self, path: &Path) -> Result<(), PlotError> {
+        for s in &self.series {
+            if s.x.len() != s.y.len() {
+                return Err(PlotError::InvalidInput(format!(
+                    "series {:?} has {} x values and {} y values",
+                    s.name,
+                    s.x.len(),
+                    s.y.len()
+                )));
+            }
+        }
+        let segments: Vec<Vec<Vec<(f64, f64)>>> =
+            self.series.iter().map(|s| self.segments(s)).collect();
+        write_atomic_via_path(path, |tmp| {
+            let root = BitMapBackend::new(tmp, SIZE).into_drawing_area();
+            self.draw(&root, &segments)?;
+            root.present()?;
+            Ok(())
+        })
+    }
+
+    /// Splits a series into runs of drawable points, in plot coordinates
+    /// (`log10 y` when `log_y`, since the axis is drawn in exponent space).
+    fn segments(&self, s: &Series) -> Vec<Vec<(f64, f64)>> {
+        let mut out: Vec<Vec<(f64, f64)>> = Vec::new();
+        let mut current = Vec::new();
+        for (&x, &y) in s.x.iter().zip(s.y) {
+            let y = if self.log_y {
+                if y > 0.0 {
+                    y.log10()
+                } else {
+                    f64::NAN
+                }
+            } else {
+                y
+            };
+            if plottable(x) && plottable(y) {
+                current.push((x, y));
+            } else if !current.is_empty() {
+                out.push(std::mem::take(&mut current));
+            }
+        }
+        if !current.is_empty() {
+            out.push(current);
+        }
+        out
+    }
+
+    fn draw(
+        &self,
+        root: &DrawingArea<BitMapBackend, Shift>,
+        segments: &[Vec<Vec<(f64, f64)>>],
+    ) -> Result<(), PlotError> {
+        root.fill(&WHITE)?;
+        let all = || segments.iter().flatten().flatten();
+        let x_extent = extent(all().map(|p| p.0));
+        let y_extent = extent(all().map(|p| p.1));
+        let (x0, x1) = axis_range(x_extent, 0.0);
+        let (y0, y1) = match y_extent {
+            // Exponent space: pad a flat curve by half a decade either way
+            // rather than by a fraction of its (meaningless) exponent.
+            Some((lo, hi)) if self.log_y && hi - lo < 1e-9 => (lo - 0.5, hi + 0.5),
+            _ => axis_range(y_extent, 0.05),
+        };
+
+        let mut chart = ChartBuilder::on(root)
+            .caption(self.title, (FONT, 30))
+            .margin(20)
+            .x_label_area_size(70)
+            .y_label_area_size(110)
+            .build_cartesian_2d(x0..x1, y0..y1)?;
+
+        let fx = |v: &f64| format_linear(*v, x0, x1);
+        let log_y = self.log_y;
+        let fy = |v: &f64| {
+            if log_y {
+                format_pow10(*v)
+            } else {
+                format_linear(*v, y0, y1)
+            }
+        };
+        chart
+            .configure_mesh()
+            .x_desc(self.x_label)
+            .y_desc(self.y_label)
+            .x_label_formatter(&fx)
+            .y_label_formatter(&fy)
+            .label_style((FONT, 18))
+            .axis_desc_style((FONT, 22))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()?;
+
+        let mut any_label = false;
+        for (i, (s, segs)) in self.series.iter().zip(segments).enumerate() {
+            let color = palette(i);
+            if self.points {
+                let markers = segs
+                    .iter()
+                    .flatten()
+                    .map(|&p| Circle::new(p, 3, color.filled()));
+                chart.draw_series(markers)?;
+            } else {
+                for seg in segs {
+                    chart
+                        .draw_series(LineSeries::new(seg.iter().copied(), color.stroke_width(2)))?;
+                }
+            }
+            if !s.name.is_empty() {
+                any_label = true;
+                // The legend entry hangs off an empty series so that a
+                // curve with no drawable points still appears in it.
+                let anchor = chart.draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())?;
+                anchor.label(s.name);
+                if self.points {
+                    anchor.legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
+                } else {
+                    anchor.legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3))
+                    });
+                }
+            }
+        }
+        if any_label {
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font((FONT, 18))
+                .draw()?;
+        }
+        if x_extent.is_none() {
+            let (w, h) = root.dim_in_pixel();
+            root.draw(&Text::new(
+                "no plottable data",
+                (w as i32 / 2 - 80, h as i32 / 2),
+                (FONT, 24).into_font().color(&RGBColor(150, 150, 150)),
+            ))?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_dir;
+    use super::*;
+
+    fn plot<'a>(series: Vec<Series<'a>>, log_y: bool, points: bool) -> LinePlot<'a> {
+        LinePlot {
+            title: "test",
+            x_label: "t [s]",
+            y_label: "E [J]",
+            series,
+            log_y,
+            points,
+        }
+    }
+
+    fn is_png(path: &Path) -> bool {
+        std::fs::read(path)
+            .map(|b| b.starts_with(b"\x89PNG"))
+            .unwrap_or(false)
+    }
+
+    #[test]
+    fn normal_plot_with_legend() {
+        let x: Vec<f64> = (0..200).map(|i| i as f64 * 1e-7).collect();
+        let a: Vec<f64> = x.iter().map(|t| (t * 1e7).sin()).collect();
+        let b: Vec<f64> = x.iter().map(|t| (t * 1e7).cos() * 0.5).collect();
+        let p = test_dir().join("normal.png");
+        plot(
+            vec![
+                Series {
+                    name: "sin",
+                    x: &x,
+                    y: &a,
+                },
+                Series {
+                    name: "cos",
+                    x: &x,
+                    y: &b,
+                },
+            ],
+            false,
+            false,
+        )
+        .write_png(&p)
+        .unwrap();
+        assert!(is_png(&p));
+    }
+
+    #[test]
+    fn degenerate_inputs_do_not_panic() {
+        let dir = test_dir();
+        let nan = [f64::NAN, 1.0, f64::INFINITY, 2.0, f64::NEG_INFINITY];
+        let xs = [0.0, 1.0, 2.0, 3.0, 4.0];
+        let cases: Vec<(&str, Vec<Series>, bool)> = vec![
+            ("none", vec![], false),
+            (
+                "empty",
+                vec![Series {
+                    name: "e",
+                    x: &[],
+                    y: &[],
+                }],
+                false,
+            ),
+            (
+                "single",
+                vec![Series {
+                    name: "s",
+                    x: &[1.0],
+                    y: &[2.0],
+                }],
+                false,
+            ),
+            (
+                "const",
+                vec![Series {
+                    name: "c",
+                    x: &xs,
+                    y: &[3.0; 5],
+                }],
+                false,
+            ),
+            (
+                "zeros",
+                vec![Series {
+                    name: "",
+                    x: &xs,
+                    y: &[0.0; 5],
+                }],
+                false,
+            ),
+            (
+                "nan",
+                vec![Series {
+                    name: "n",
+                    x: &xs,
+                    y: &nan,
+                }],
+                false,
+            ),
+            (
+                "allnan",
+                vec![Series {
+                    name: "n",
+                    x: &xs,
+                    y: &[f64::NAN; 5],
+                }],
+                true,
+            ),
+            (
+                "lognonpos",
+                vec![Series {
+                    name: "l",
+                    x: &xs,
+                    y: &[0.0, -1.0, 1e-20, 1e-5, 1.0],
+                }],
+                true,
+            ),
+            (
+                "logconst",
+                vec![Series {
+                    name: "l",
+                    x: &xs,
+                    y: &[1e-7; 5],
+                }],
+                true,
+            ),
+            (
+                "huge",
+                vec![Series {
+                    name: "h",
+                    x: &xs,
+                    y: &[1e308, -1e308, 1.0, 2.0, 3.0],
+                }],
+                false,
+            ),
+        ];
+        for (name, series, log_y) in cases {
+            for points in [false, true] {
+                let p = dir.join(format!("{name}-{points}.png"));
+                plot(series.clone(), log_y, points)
+                    .write_png(&p)
+                    .unwrap_or_else(|e| panic!("{name}: {e}"));
+                assert!(is_png(&p), "{name}");
+            }
+        }
+    }
+
+    #[test]
+    fn many_series_and_mismatched_lengths() {
+        let x: Vec<f64> = (0..50).map(f64::from).collect();
+        let ys: Vec<Vec<f64>> = (0..10)
+            .map(|k| x.iter().map(|v| v * k as f64).collect())
+            .collect();
+        let names: Vec<String> = (0..10).map(|k| format!("k={k}")).collect();
+        let series = ys
+            .iter()
+            .zip(&names)
+            .map(|(y, n)| Series { name: n, x: &x, y })
+            .collect();
+        let p = test_dir().join("many.png");
+        plot(series, false, false).write_png(&p).unwrap();
+
+        let bad = plot(
+            vec![Series {
+                name: "b",
+                x: &x,
+                y: &x[..3],
+            }],
+            false,
+            false,
+        );
+        let q = test_dir().join("bad.png");
+        assert!(matches!(bad.write_png(&q), Err(PlotError::InvalidInput(_))));
+        assert!(!q.exists());
+    }
+
+    #[test]
+    fn unwritable_path_is_an_error() {
+        let p = test_dir().join("no/such/dir/x.png");
+        let r = plot(vec![], false, false).write_png(&p);
+        assert!(r.is_err());
+    }
+}
