@@ -1,17 +1,12 @@
 //! `grains`: one scenario file in; ParaView frames, history, plots and a summary out.
 
-mod assemble;
 mod bench;
-mod check;
-mod frames;
-mod plots;
-mod probes;
+mod dem;
 mod progress;
-mod run;
-mod scenario;
 mod summary;
 
 use clap::{Parser, Subcommand};
+use grains_core::checks::Check;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -19,11 +14,7 @@ use std::process::ExitCode;
 const DEMO: &str = include_str!("../../../examples/dem/demo_hopper.toml");
 
 #[derive(Parser)]
-#[command(
-    name = "grains",
-    version,
-    about = "Simulation suite for granular materials under extreme loading"
-)]
+#[command(name = "grains", version, about = "Simulation suite for granular materials under extreme loading")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -57,6 +48,12 @@ enum Command {
     },
 }
 
+/// Which engine a scenario file is for: its top-level `engine` key.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Engine {
+    Dem,
+}
+
 /// Exit codes: 1 bad input (nothing written), 2 a check failed, 3 the run went unstable.
 fn main() -> ExitCode {
     tracing_subscriber::fmt()
@@ -65,13 +62,81 @@ fn main() -> ExitCode {
         .init();
     let cli = Cli::parse();
     match cli.command {
-        Command::Run {
-            scenario,
-            out,
-            threads,
-        } => cmd_run(scenario.as_deref(), out, threads),
-        Command::Check { scenario, json } => check::cmd_check(&scenario, json),
+        Command::Run { scenario, out, threads } => cmd_run(scenario.as_deref(), out, threads),
+        Command::Check { scenario, json } => cmd_check(&scenario, json),
         Command::Bench { what } => bench::cmd_bench(what),
+    }
+}
+
+/// A scenario's text, where it came from, and the directory its relative paths start at.
+struct Source {
+    text: String,
+    origin: String,
+    base: PathBuf,
+}
+
+fn read_source(path: Option<&Path>) -> Result<Source, String> {
+    match path {
+        Some(p) => {
+            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: cannot read scenario: {e}", p.display()))?;
+            Ok(Source {
+                text,
+                origin: p.display().to_string(),
+                base: p.parent().map(Path::to_path_buf).unwrap_or_default(),
+            })
+        }
+        None => {
+            eprintln!("grains: no scenario given, running the built-in demo (examples/dem/demo_hopper.toml)");
+            Ok(Source {
+                text: DEMO.to_string(),
+                origin: "demo_hopper.toml".into(),
+                base: PathBuf::from("."),
+            })
+        }
+    }
+}
+
+/// Reads the `engine` key without interpreting the rest, so each engine can parse its own
+/// scenario type strictly.
+fn engine_of(src: &Source) -> Result<Engine, String> {
+    let value: toml::Table = toml::from_str(&src.text).map_err(|e| {
+        let line = e.span().map(|s| src.text[..s.start.min(src.text.len())].matches('\n').count() + 1);
+        let at = line.map(|l| format!(" line {l}:")).unwrap_or_default();
+        format!("{}:{at} not a valid TOML file: {}", src.origin, e.message().replace('\n', " ").trim())
+    })?;
+    match value.get("engine") {
+        None => Ok(Engine::Dem),
+        Some(toml::Value::String(s)) if s == "dem" => Ok(Engine::Dem),
+        Some(other) => Err(format!("{}: engine = {other}: must be one of \"dem\"", src.origin)),
+    }
+}
+
+fn cmd_run(path: Option<&Path>, out: Option<PathBuf>, threads: Option<usize>) -> ExitCode {
+    let src = match read_source(path) {
+        Ok(s) => s,
+        Err(e) => return fail(1, &e),
+    };
+    let engine = match engine_of(&src) {
+        Ok(e) => e,
+        Err(e) => return fail(1, &e),
+    };
+    let threads = match set_threads(threads) {
+        Ok(t) => t,
+        Err(e) => return fail(1, &e),
+    };
+    match engine {
+        Engine::Dem => dem::cmd_run(&src.text, &src.origin, &src.base, out, threads),
+    }
+}
+
+fn cmd_check(path: &Path, json: bool) -> ExitCode {
+    let src = match read_source(Some(path)) {
+        Ok(s) => s,
+        Err(e) => return fail(1, &e),
+    };
+    match engine_of(&src) {
+        Ok(Engine::Dem) => dem::check::cmd_check(&src.text, &src.origin, &src.base, json),
+        Err(e) => fail(1, &e),
     }
 }
 
@@ -89,77 +154,27 @@ pub fn set_threads(threads: Option<usize>) -> Result<usize, String> {
     Ok(rayon::current_num_threads())
 }
 
-fn cmd_run(path: Option<&Path>, out: Option<PathBuf>, threads: Option<usize>) -> ExitCode {
-    let loaded = match path {
-        Some(p) => scenario::load(p)
-            .map(|(s, t)| (s, t, p.parent().map(Path::to_path_buf).unwrap_or_default())),
-        None => {
-            eprintln!("grains: no scenario given, running the built-in demo (examples/dem/demo_hopper.toml)");
-            scenario::parse(DEMO, "demo_hopper.toml")
-                .map(|s| (s, DEMO.to_string(), PathBuf::from(".")))
-        }
-    };
-    let (scn, text, base) = match loaded {
-        Ok(v) => v,
-        Err(e) => return fail(1, &e),
-    };
-    let threads = match set_threads(threads) {
-        Ok(t) => t,
-        Err(e) => return fail(1, &e),
-    };
-    let asm = match assemble::assemble(&scn, &base) {
-        Ok(a) => a,
-        Err(e) => return fail(1, &format!("{}: {e}", origin(path))),
-    };
-    let out = out.unwrap_or_else(|| PathBuf::from("runs").join(&scn.name));
-    eprintln!(
-        "grains: {} — {} particles, dt = {:.3e} s, {} steps, {} threads → {}",
-        scn.name,
-        asm.particles.len(),
-        asm.setup.dt,
-        asm.steps,
-        threads,
-        out.display()
-    );
-    match run::run(&scn, &text, asm, &out, threads) {
-        Ok(outcome) => {
-            for c in &outcome.checks {
-                eprintln!(
-                    "  check {:32} measured {:>12.6e}  expected {:>12.6e}  {}",
-                    c.name,
-                    c.measured,
-                    c.expected,
-                    if c.pass { "pass" } else { "FAIL" }
-                );
-            }
-            if let run::Status::Unstable(msg) = &outcome.status {
-                return fail(
-                    3,
-                    &format!(
-                        "run stopped, unstable at {msg}; last good output kept in {}",
-                        out.display()
-                    ),
-                );
-            }
-            let failed = outcome.checks.iter().filter(|c| !c.pass).count();
-            if failed > 0 {
-                return fail(
-                    2,
-                    &format!(
-                        "{failed} check(s) failed; see {}",
-                        out.join("summary.json").display()
-                    ),
-                );
-            }
-            eprintln!("grains: done; outputs in {}", out.display());
-            ExitCode::SUCCESS
-        }
-        Err(e) => fail(1, &format!("{e:#}")),
+/// Prints the checks and turns the end of a run into its exit code: 3 unstable,
+/// 2 a check failed, 0 otherwise.
+pub fn report(checks: &[Check], unstable: Option<&str>, out: &Path) -> ExitCode {
+    for c in checks {
+        eprintln!(
+            "  check {:32} measured {:>12.6e}  expected {:>12.6e}  {}",
+            c.name,
+            c.measured,
+            c.expected,
+            if c.pass { "pass" } else { "FAIL" }
+        );
     }
-}
-
-fn origin(path: Option<&Path>) -> String {
-    path.map_or("demo_hopper.toml".into(), |p| p.display().to_string())
+    if let Some(msg) = unstable {
+        return fail(3, &format!("run stopped, unstable at {msg}; last good output kept in {}", out.display()));
+    }
+    let failed = checks.iter().filter(|c| !c.pass).count();
+    if failed > 0 {
+        return fail(2, &format!("{failed} check(s) failed; see {}", out.join("summary.json").display()));
+    }
+    eprintln!("grains: done; outputs in {}", out.display());
+    ExitCode::SUCCESS
 }
 
 /// Prints a one-line error and returns the exit code.

@@ -2,7 +2,7 @@
 //! scenario's checks: binary collisions (restitution, contact time) and wall impacts
 //! (rigid-body impulse theory). They only read the state.
 
-use crate::scenario::CheckSpec;
+use super::scenario::CheckSpec;
 use glam::DVec2;
 use grains_core::checks::Check;
 use grains_dem::{Setup, State};

@@ -1,12 +1,13 @@
 //! The run loop: step the engine, record history, write frames, stop at rest or on
 //! instability, then write checks, figures, plots and the summary.
 
-use crate::assemble::Assembled;
-use crate::frames::FrameWriter;
-use crate::probes::Probes;
+use super::assemble::Assembled;
+use super::frames::FrameWriter;
+use super::probes::Probes;
 use crate::progress::Progress;
-use crate::scenario::{FigureSpec, Scenario};
-use crate::{plots, summary};
+use super::scenario::{FigureSpec, Scenario};
+use super::plots;
+use crate::summary;
 use anyhow::Context;
 use grains_core::atomic::write_atomic;
 use grains_core::checks::Check;
@@ -29,8 +30,8 @@ pub enum Status {
 
 /// What the caller needs to decide the exit code.
 pub struct Outcome {
-    /// How it ended.
-    pub status: Status,
+    /// The diagnostic, when the run stopped on a bad state.
+    pub unstable: Option<String>,
     /// Checks with their verdicts.
     pub checks: Vec<Check>,
 }
@@ -150,7 +151,11 @@ pub fn run(
         checks: checks.clone(),
     };
     summary::write(&out.join("summary.json"), &sum)?;
-    Ok(Outcome { status, checks })
+    let unstable = match status {
+        Status::Unstable(m) => Some(m),
+        _ => None,
+    };
+    Ok(Outcome { unstable, checks })
 }
 
 fn instability(d: &Diagnostics) -> Option<String> {

@@ -1,7 +1,7 @@
 //! Turns a parsed scenario into the engine's inputs, validating every value on the way.
 //! Nothing here writes to disk: a scenario that fails leaves no output behind.
 
-use crate::scenario::{CheckSpec, FigureSpec, ParticleSource, RadiusSpec, Scenario};
+use super::scenario::{CheckSpec, FigureSpec, ParticleSource, RadiusSpec, Scenario};
 use glam::DVec2;
 use grains_core::rng;
 use grains_dem::setup::SetupError;

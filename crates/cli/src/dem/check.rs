@@ -1,6 +1,7 @@
 //! `grains check`: validate a scenario and print what a run would do, without running.
 
-use crate::{assemble, fail, scenario};
+use super::{assemble, scenario};
+use crate::fail;
 use serde::Serialize;
 use std::path::Path;
 use std::process::ExitCode;
@@ -26,16 +27,16 @@ fn memory_estimate(particles: usize, walls: usize) -> u64 {
     (particles as u64) * (100 + 160 + 30 + 8 * walls as u64) + (1 << 20)
 }
 
-/// Runs the command.
-pub fn cmd_check(path: &Path, json: bool) -> ExitCode {
-    let (scn, _) = match scenario::load(path) {
+/// Runs the command on scenario `text` read from `origin`; relative paths are read
+/// from `base`.
+pub fn cmd_check(text: &str, origin: &str, base: &Path, json: bool) -> ExitCode {
+    let scn = match scenario::parse(text, origin) {
         Ok(v) => v,
         Err(e) => return fail(1, &e),
     };
-    let base = path.parent().unwrap_or(Path::new("."));
     let asm = match assemble::assemble(&scn, base) {
         Ok(a) => a,
-        Err(e) => return fail(1, &format!("{}: {e}", path.display())),
+        Err(e) => return fail(1, &format!("{origin}: {e}")),
     };
     let d = Derived {
         name: scn.name.clone(),

@@ -3,12 +3,14 @@
 
 use grains_dem::{ContactModel, Material, WallShape};
 use serde::{Deserialize, Serialize};
-use std::path::Path;
 
 /// A whole scenario file.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
+    /// Engine tag; `"dem"` (the default) for this scenario type.
+    #[serde(default)]
+    pub engine: Option<String>,
     /// Name of the run; the default output directory is `runs/<name>`.
     pub name: String,
     /// Free text shown by `grains check`.
@@ -392,12 +394,4 @@ pub fn parse(text: &str, origin: &str) -> Result<Scenario, String> {
         let msg = e.message().replace('\n', " ");
         format!("{origin}:{at} {}", msg.trim())
     })
-}
-
-/// Reads and parses a scenario file.
-pub fn load(path: &Path) -> Result<(Scenario, String), String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("{}: cannot read scenario: {e}", path.display()))?;
-    let s = parse(&text, &path.display().to_string())?;
-    Ok((s, text))
 }
