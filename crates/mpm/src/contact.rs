@@ -1,0 +1,227 @@
+//! Contact on the grid (Bardenhagen et al. 1998/2000, in NairnMPM's momentum form):
+//! each body's nodal momentum is moved toward the centre-of-mass momentum of all bodies
+//! at that node, wholly in the normal direction when approaching and, tangentially, up to
+//! Coulomb's μ times the normal change. The normal of body b is colinear with the other
+//! bodies' (n_b ∝ g_b − g_rest), so two bodies get equal and opposite corrections and
+//! momentum is conserved. Rigid bodies take the place of the centre of mass. The domain
+//! edges are walls with exact normals and the same law.
+
+use crate::grid::{Grid, GHOST};
+use crate::nodes::{GlobalNode, Node, Patch};
+use crate::setup::{ContactLaw, ContactTable};
+use glam::DVec2;
+
+/// Which of the two corrections of a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pass {
+    /// On the interpolated momenta (and MUSL's re-mapped ones): momentum only.
+    Interpolated,
+    /// After integration: the change also enters the nodal force, so FLIP sees it.
+    Integrated,
+}
+
+/// The Coulomb-limited momentum change that brings `dp` (stick change) into contact
+/// along the unit normal `n`; `None` if the fields separate. `mu = None`: no slip.
+#[inline]
+pub fn coulomb(dp: DVec2, n: DVec2, law: ContactLaw) -> Option<DVec2> {
+    match law {
+        ContactLaw::NoSlip => Some(dp),
+        ContactLaw::Coulomb { mu } => {
+            let dn = dp.dot(n);
+            if dn >= 0.0 {
+                return None;
+            }
+            let t = dp - dn * n;
+            let ts = t.length();
+            let cap = -mu * dn;
+            Some(if ts > cap {
+                dn * n + t * (cap / ts)
+            } else {
+                dp
+            })
+        }
+    }
+}
+
+/// What a body's corrections touched this pass.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Touch {
+    /// Nodes corrected against other bodies.
+    pub body_nodes: u32,
+    /// Heaviest partner at the last such node.
+    pub partner: Option<u16>,
+    /// Walls touched: bit k for side k (left, right, bottom, top).
+    pub walls: u8,
+}
+
+impl Touch {
+    /// Both together.
+    pub fn merge(self, o: Touch) -> Touch {
+        Touch {
+            body_nodes: self.body_nodes + o.body_nodes,
+            partner: o.partner.or(self.partner),
+            walls: self.walls | o.walls,
+        }
+    }
+}
+
+#[inline]
+fn apply(n: &mut Node, dp: DVec2, pass: Pass, inv_dt: f64, bit: u32) {
+    n.p += dp;
+    if pass == Pass::Integrated {
+        n.f += dp * inv_dt;
+    }
+    n.touched |= bit;
+}
+
+/// Corrects body `b`'s patch against the other bodies summed in `global`.
+pub fn bodies(
+    b: u16,
+    patch: &mut Patch,
+    global: &[GlobalNode],
+    global_rows: usize,
+    table: &ContactTable,
+    pass: Pass,
+    dt: f64,
+) -> Touch {
+    let mut touch = Touch::default();
+    let rows = patch.size[1];
+    let inv_dt = 1.0 / dt;
+    for (c, col) in patch.nodes.chunks_mut(rows).enumerate() {
+        let gcol = &global[(patch.lo[0] + c) * global_rows + patch.lo[1]..][..rows];
+        for (n, g) in col.iter_mut().zip(gcol) {
+            if g.count < 2 || n.m <= 0.0 {
+                continue;
+            }
+            let target = if g.m_rigid > 0.0 {
+                g.p_rigid * (n.m / g.m_rigid)
+            } else {
+                g.p * (n.m / g.m)
+            };
+            let normal = 2.0 * n.g - g.g;
+            let len = normal.length();
+            if len == 0.0 || !len.is_finite() {
+                continue;
+            }
+            let partner = g.partner(b);
+            if let Some(dp) = coulomb(
+                target - n.p,
+                normal / len,
+                table.get(b as usize, partner as usize),
+            ) {
+                apply(n, dp, pass, inv_dt, 1);
+                touch.body_nodes += 1;
+                touch.partner = Some(partner);
+            }
+        }
+    }
+    touch
+}
+
+/// Outward normals of the four sides.
+const NORMALS: [DVec2; 4] = [
+    DVec2::new(-1.0, 0.0),
+    DVec2::new(1.0, 0.0),
+    DVec2::new(0.0, -1.0),
+    DVec2::new(0.0, 1.0),
+];
+
+/// Corrects a patch against the domain walls: every node on or beyond a walled edge.
+pub fn walls(
+    patch: &mut Patch,
+    grid: &Grid,
+    walls: &[Option<f64>; 4],
+    pass: Pass,
+    dt: f64,
+) -> Touch {
+    let mut touch = Touch::default();
+    let inv_dt = 1.0 / dt;
+    // Stored index of the edge nodes: left/bottom at GHOST, right/top at cells + GHOST.
+    let edge = [GHOST, grid.cells[0] + GHOST, GHOST, grid.cells[1] + GHOST];
+    let rows = patch.size[1];
+    let (c0, c1) = patch.columns();
+    let (r0, r1) = (patch.lo[1], patch.lo[1] + rows);
+    for (side, mu) in walls.iter().enumerate() {
+        let Some(mu) = *mu else { continue };
+        let (cols, rws) = match side {
+            0 => (c0..(edge[0] + 1).min(c1), r0..r1),
+            1 => (edge[1].max(c0)..c1, r0..r1),
+            2 => (c0..c1, r0..(edge[2] + 1).min(r1)),
+            _ => (c0..c1, edge[3].max(r0)..r1),
+        };
+        let law = ContactLaw::Coulomb { mu };
+        let normal = NORMALS[side];
+        for col in cols {
+            for row in rws.clone() {
+                let n = &mut patch.nodes[(col - c0) * rows + (row - r0)];
+                if n.m <= 0.0 {
+                    continue;
+                }
+                // Stick change: bring the node to rest against the wall.
+                if let Some(dp) = coulomb(-n.p, normal, law) {
+                    apply(n, dp, pass, inv_dt, 2 << side);
+                    touch.walls |= 1 << side;
+                }
+            }
+        }
+    }
+    touch
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn coulomb_cases() {
+        let n = DVec2::new(0.0, 1.0);
+        // Separating: nothing.
+        assert_eq!(
+            coulomb(DVec2::new(0.3, 0.5), n, ContactLaw::Coulomb { mu: 0.5 }),
+            None
+        );
+        // Frictionless: normal part only.
+        assert_eq!(
+            coulomb(DVec2::new(0.3, -0.5), n, ContactLaw::Coulomb { mu: 0.0 }),
+            Some(DVec2::new(0.0, -0.5))
+        );
+        // Sliding: tangential capped at μ|dn|.
+        let d = coulomb(DVec2::new(0.3, -0.5), n, ContactLaw::Coulomb { mu: 0.2 }).unwrap();
+        assert!((d - DVec2::new(0.1, -0.5)).length() < 1e-15);
+        // Sticking: the whole change.
+        let d = coulomb(DVec2::new(0.3, -0.5), n, ContactLaw::Coulomb { mu: 1.0 }).unwrap();
+        assert_eq!(d, DVec2::new(0.3, -0.5));
+        assert_eq!(
+            coulomb(DVec2::new(0.3, 0.5), n, ContactLaw::NoSlip),
+            Some(DVec2::new(0.3, 0.5))
+        );
+    }
+
+    #[test]
+    fn wall_stops_approach_with_friction() {
+        let grid = Grid {
+            lo: DVec2::ZERO,
+            h: 1.0,
+            cells: [4, 4],
+        };
+        let mut patch = Patch::default();
+        patch.reset([0, 0], [3, 3]);
+        for n in &mut patch.nodes {
+            n.m = 2.0;
+            n.p = DVec2::new(-1.0, 0.4);
+        }
+        let t = walls(
+            &mut patch,
+            &grid,
+            &[Some(0.1), None, None, None],
+            Pass::Integrated,
+            0.5,
+        );
+        assert_eq!(t.walls, 1);
+        // Columns 0 and 1 (ghost and edge) are corrected, column 2 is not.
+        assert!((patch.nodes[0].p - DVec2::new(0.0, 0.3)).length() < 1e-15);
+        assert!((patch.nodes[3].p - DVec2::new(0.0, 0.3)).length() < 1e-15);
+        assert!((patch.nodes[3].f - DVec2::new(2.0, -0.2)).length() < 1e-15);
+        assert_eq!(patch.nodes[6].p, DVec2::new(-1.0, 0.4));
+    }
+}

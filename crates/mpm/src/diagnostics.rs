@@ -1,0 +1,171 @@
+//! What a run records: energies, momentum, and per body the centre of mass, velocity,
+//! angular velocity and rotation angle. Sums run over fixed chunks in a fixed order, so
+//! they do not depend on the thread count.
+
+use crate::particles::Particles;
+use crate::setup::{Motion, Setup};
+use crate::CHUNK;
+use glam::DVec2;
+use rayon::prelude::*;
+
+/// Kinematics of one body.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyDiag {
+    /// Mass.
+    pub mass: f64,
+    /// Centre of mass.
+    pub centre: DVec2,
+    /// Centre-of-mass velocity.
+    pub velocity: DVec2,
+    /// Angular velocity about the centre of mass, L/I (rad/s, counter-clockwise > 0).
+    pub omega: f64,
+    /// Best-fit rotation from the initial configuration, in (−π, π] (rad); unwrap
+    /// between samples to accumulate turns.
+    pub angle: f64,
+    /// Kinetic energy.
+    pub kinetic: f64,
+    /// Stored (strain) energy.
+    pub strain: f64,
+}
+
+/// Whole-system figures.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Diagnostics {
+    /// Kinetic energy Σ ½ m v² of the free bodies (J per unit thickness).
+    pub kinetic: f64,
+    /// Stored elastic energy.
+    pub strain: f64,
+    /// Gravitational potential energy −Σ m g·x of the free bodies.
+    pub potential: f64,
+    /// Total momentum of the free bodies.
+    pub momentum: DVec2,
+    /// Largest point speed.
+    pub max_speed: f64,
+    /// Every position, velocity and stress is finite.
+    pub finite: bool,
+    /// Per body.
+    pub bodies: Vec<BodyDiag>,
+}
+
+impl Diagnostics {
+    /// Kinetic + strain + potential.
+    pub fn total(&self) -> f64 {
+        self.kinetic + self.strain + self.potential
+    }
+}
+
+#[derive(Clone, Copy, Default)]
+struct Sums {
+    m: f64,
+    mx: DVec2,
+    mv: DVec2,
+    m0: DVec2,
+    ke: f64,
+    se: f64,
+    pe: f64,
+    vmax: f64,
+    bad: bool,
+}
+
+#[derive(Clone, Copy, Default)]
+struct Moments {
+    l: f64,
+    i: f64,
+    cross: f64,
+    dot: f64,
+}
+
+/// Measures the state. `ranges[b]` is body b's point range (see [`crate::Solver::layout`]).
+pub fn measure(setup: &Setup, p: &Particles, ranges: &[(usize, usize)]) -> Diagnostics {
+    let g = setup.gravity;
+    let mut d = Diagnostics {
+        finite: true,
+        ..Default::default()
+    };
+    for (b, body) in setup.bodies.iter().enumerate() {
+        let (start, end) = ranges[b];
+        let mat = &setup.materials[body.material];
+        let free = body.motion == Motion::Free;
+        let chunks: Vec<Sums> = (start..end)
+            .step_by(CHUNK)
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|c0| {
+                let mut s = Sums::default();
+                for i in c0..(c0 + CHUNK).min(end) {
+                    let (m, x, v) = (p.mass[i], p.pos[i], p.vel[i]);
+                    s.m += m;
+                    s.mx += m * x;
+                    s.mv += m * v;
+                    s.m0 += m * p.pos0[i];
+                    s.ke += 0.5 * m * v.length_squared();
+                    s.pe -= m * g.dot(x);
+                    if free {
+                        s.se += mat.energy(p.vol0[i], p.def[i], &p.stress[i]);
+                    }
+                    s.vmax = s.vmax.max(v.length());
+                    let st = p.stress[i];
+                    s.bad |= !(x.is_finite()
+                        && v.is_finite()
+                        && (st.xx + st.yy + st.xy + st.zz).is_finite());
+                }
+                s
+            })
+            .collect();
+        let mut s = Sums::default();
+        for c in chunks {
+            s.m += c.m;
+            s.mx += c.mx;
+            s.mv += c.mv;
+            s.m0 += c.m0;
+            s.ke += c.ke;
+            s.se += c.se;
+            s.pe += c.pe;
+            s.vmax = s.vmax.max(c.vmax);
+            s.bad |= c.bad;
+        }
+        let (centre, vel, centre0) = (s.mx / s.m, s.mv / s.m, s.m0 / s.m);
+        let moments: Vec<Moments> = (start..end)
+            .step_by(CHUNK)
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|c0| {
+                let mut q = Moments::default();
+                for i in c0..(c0 + CHUNK).min(end) {
+                    let m = p.mass[i];
+                    let r = p.pos[i] - centre;
+                    let r0 = p.pos0[i] - centre0;
+                    q.l += m * r.perp_dot(p.vel[i] - vel);
+                    q.i += m * r.length_squared();
+                    q.cross += m * r0.perp_dot(r);
+                    q.dot += m * r0.dot(r);
+                }
+                q
+            })
+            .collect();
+        let q = moments.iter().fold(Moments::default(), |a, c| Moments {
+            l: a.l + c.l,
+            i: a.i + c.i,
+            cross: a.cross + c.cross,
+            dot: a.dot + c.dot,
+        });
+        d.bodies.push(BodyDiag {
+            mass: s.m,
+            centre,
+            velocity: vel,
+            omega: if q.i > 0.0 { q.l / q.i } else { 0.0 },
+            angle: q.cross.atan2(q.dot),
+            kinetic: s.ke,
+            strain: s.se,
+        });
+        d.finite &= !s.bad;
+        d.max_speed = d.max_speed.max(s.vmax);
+        if free {
+            d.kinetic += s.ke;
+            d.strain += s.se;
+            d.potential += s.pe;
+            d.momentum += s.mv;
+        }
+    }
+    d
+}

@@ -1,0 +1,228 @@
+//! Grid storage. Each body has its own *patch*: a rectangle of nodes just covering its
+//! points, stored column-major so that a strip of columns is one contiguous slice. Bodies
+//! that may touch also sum into one *global* grid (total mass, momentum, mass gradient,
+//! the rigid share, and the two heaviest bodies per node), which is all a body's contact
+//! correction needs: the cost is linear in the number of bodies, never in pairs.
+
+use crate::grid::Grid;
+use glam::DVec2;
+use rayon::prelude::*;
+
+/// One body's fields at one node. Kept as one 64-byte record because the scatter
+/// updates all of them together.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct Node {
+    /// Mass.
+    pub m: f64,
+    /// Momentum.
+    pub p: DVec2,
+    /// Force (internal + gravity, plus contact impulse / Δt after the second pass).
+    pub f: DVec2,
+    /// Mass gradient Σ m_p ∇S_ip (outward normal direction of the body).
+    pub g: DVec2,
+    /// Corrections applied here this step: bit 0 body contact, bits 1–4 walls
+    /// (left, right, bottom, top).
+    pub touched: u32,
+}
+
+/// Velocities read back by the particles.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Kin {
+    /// Grid velocity (after integration and contact, or as used for the strain rate).
+    pub v: DVec2,
+    /// Acceleration seen by FLIP.
+    pub a: DVec2,
+}
+
+/// One body's nodes.
+#[derive(Clone, Debug, Default)]
+pub struct Patch {
+    /// First stored node (column, row).
+    pub lo: [usize; 2],
+    /// Columns and rows.
+    pub size: [usize; 2],
+    /// Node fields, column-major.
+    pub nodes: Vec<Node>,
+    /// Kinematics, same indexing.
+    pub kin: Vec<Kin>,
+}
+
+impl Patch {
+    /// Re-shapes the patch to cover stored nodes `[lo, hi)` and zeroes it.
+    pub fn reset(&mut self, lo: [usize; 2], hi: [usize; 2]) {
+        self.lo = lo;
+        self.size = [hi[0] - lo[0], hi[1] - lo[1]];
+        let n = self.size[0] * self.size[1];
+        self.nodes.clear();
+        self.nodes.resize(n, Node::default());
+        self.kin.clear();
+        self.kin.resize(n, Kin::default());
+    }
+
+    /// Stored (column, row) of local index `k`.
+    #[inline]
+    pub fn stored(&self, k: usize) -> [usize; 2] {
+        [self.lo[0] + k / self.size[1], self.lo[1] + k % self.size[1]]
+    }
+
+    /// Stored column range `[lo, hi)`.
+    pub fn columns(&self) -> (usize, usize) {
+        (self.lo[0], self.lo[0] + self.size[0])
+    }
+}
+
+/// The sum over bodies at one node.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GlobalNode {
+    /// Total mass.
+    pub m: f64,
+    /// Total momentum.
+    pub p: DVec2,
+    /// Total mass gradient.
+    pub g: DVec2,
+    /// Mass of rigid (prescribed) bodies.
+    pub m_rigid: f64,
+    /// Momentum of rigid bodies.
+    pub p_rigid: DVec2,
+    /// Bodies with mass here.
+    pub count: u32,
+    /// Heaviest body here, and the second heaviest.
+    pub top: [u16; 2],
+    /// Their masses.
+    pub top_m: [f64; 2],
+}
+
+impl GlobalNode {
+    /// The heaviest body here other than `b`: the partner whose contact law applies.
+    #[inline]
+    pub fn partner(&self, b: u16) -> u16 {
+        if self.top[0] == b {
+            self.top[1]
+        } else {
+            self.top[0]
+        }
+    }
+}
+
+/// The whole grid's sums, column-major over stored nodes.
+#[derive(Clone, Debug, Default)]
+pub struct Global {
+    /// Stored nodes along x and y.
+    pub dims: [usize; 2],
+    /// Node sums.
+    pub nodes: Vec<GlobalNode>,
+}
+
+/// Columns per parallel band when summing patches.
+const BAND: usize = 16;
+
+impl Global {
+    /// Sized for `grid`, zeroed.
+    pub fn new(grid: &Grid) -> Self {
+        let dims = grid.stored();
+        Global {
+            dims,
+            nodes: vec![GlobalNode::default(); dims[0] * dims[1]],
+        }
+    }
+
+    /// Sums every patch into the grid: masses, momenta and gradients, or (`momentum_only`)
+    /// just the momenta after they changed. Bodies are added in index order, so the sums
+    /// do not depend on the thread count.
+    pub fn accumulate(&mut self, patches: &[Patch], rigid: &[bool], momentum_only: bool) {
+        let rows = self.dims[1];
+        self.nodes
+            .par_chunks_mut(BAND * rows)
+            .enumerate()
+            .for_each(|(band, chunk)| {
+                let c0 = band * BAND;
+                let c1 = c0 + chunk.len() / rows;
+                if momentum_only {
+                    chunk.iter_mut().for_each(|g| g.p = g.p_rigid);
+                } else {
+                    chunk.fill(GlobalNode::default());
+                }
+                for (b, patch) in patches.iter().enumerate() {
+                    let (p0, p1) = patch.columns();
+                    let (a, z) = (c0.max(p0), c1.min(p1));
+                    for col in a..z {
+                        let src = &patch.nodes[(col - p0) * patch.size[1]..][..patch.size[1]];
+                        let dst = &mut chunk[(col - c0) * rows + patch.lo[1]..][..patch.size[1]];
+                        for (g, n) in dst.iter_mut().zip(src) {
+                            if n.m <= 0.0 {
+                                continue;
+                            }
+                            if momentum_only {
+                                if !rigid[b] {
+                                    g.p += n.p;
+                                }
+                                continue;
+                            }
+                            g.m += n.m;
+                            g.p += n.p;
+                            g.g += n.g;
+                            g.count += 1;
+                            if rigid[b] {
+                                g.m_rigid += n.m;
+                                g.p_rigid += n.p;
+                            }
+                            let b = b as u16;
+                            if g.count == 1 || n.m > g.top_m[0] {
+                                g.top = [b, g.top[0]];
+                                g.top_m = [n.m, g.top_m[0]];
+                            } else if g.count == 2 || n.m > g.top_m[1] {
+                                g.top[1] = b;
+                                g.top_m[1] = n.m;
+                            }
+                        }
+                    }
+                }
+            });
+    }
+
+    /// Global index of a stored node.
+    #[inline]
+    pub fn index(&self, col: usize, row: usize) -> usize {
+        col * self.dims[1] + row
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sums_and_partners() {
+        let grid = Grid {
+            lo: DVec2::ZERO,
+            h: 1.0,
+            cells: [40, 3],
+        };
+        let mut patches = vec![Patch::default(), Patch::default(), Patch::default()];
+        patches[0].reset([2, 1], [20, 4]);
+        patches[1].reset([18, 0], [30, 3]);
+        patches[2].reset([19, 1], [21, 2]);
+        for (b, p) in patches.iter_mut().enumerate() {
+            for n in &mut p.nodes {
+                n.m = 1.0 + b as f64;
+                n.p = DVec2::new(b as f64, 1.0);
+            }
+        }
+        let mut g = Global::new(&grid);
+        g.accumulate(&patches, &[false, false, true], false);
+        let at = g.nodes[g.index(19, 1)];
+        assert_eq!(at.count, 3);
+        assert_eq!(at.m, 6.0);
+        assert_eq!(at.m_rigid, 3.0);
+        assert_eq!(at.top, [2, 1]);
+        assert_eq!(at.partner(2), 1);
+        assert_eq!(at.partner(0), 2);
+        assert_eq!(g.nodes[g.index(5, 2)].count, 1);
+        // Momentum-only refresh keeps the rigid share and re-adds the rest.
+        patches[0].nodes.iter_mut().for_each(|n| n.p = DVec2::ZERO);
+        g.accumulate(&patches, &[false, false, true], true);
+        let at = g.nodes[g.index(19, 1)];
+        assert_eq!(at.p, DVec2::new(1.0 + 2.0, 2.0));
+    }
+}

@@ -1,0 +1,539 @@
+//! One explicit MPM step, as a fixed sequence of named stages:
+//!
+//! `prepare → p2g → correct(interpolated) → [usf: stress_first] → integrate →
+//!  correct(integrated) → grid_velocities → g2p → [musl: remap → correct → stress_last]`
+//!
+//! State is the points ([`State`]); the [`Solver`] only holds scratch space (patches, the
+//! global sums, the sort layout) that is rebuilt every step.
+
+use crate::contact::{self, Pass, Touch};
+use crate::nodes::{Global, Kin, Node, Patch};
+use crate::particles::{strip_columns, Layout, Particles};
+use crate::setup::{Motion, Setup, UpdateScheme};
+use crate::shape::{Bspline2, Gimp, Kernel, Linear, ShapeFunction};
+use crate::transfer::{self, Place, Points, Seen, Source, View};
+use glam::DVec2;
+use rayon::prelude::*;
+
+/// Everything that evolves during a run.
+#[derive(Clone, Debug, Default)]
+pub struct State {
+    /// The material points.
+    pub particles: Particles,
+    /// Simulated time (s).
+    pub time: f64,
+    /// Steps taken.
+    pub step: u64,
+    /// Per body: what its fields were corrected against in the last step.
+    pub touch: Vec<Touch>,
+}
+
+/// Why a step could not be taken.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct Unstable(pub String);
+
+/// Scratch space of the stages; rebuilt every step, kept to reuse its allocations.
+#[derive(Clone, Debug, Default)]
+pub struct Solver {
+    layout: Layout,
+    resort: bool,
+    bounds: Vec<(DVec2, DVec2)>,
+    rigid: Vec<bool>,
+    /// Each body's grid patch (after a step: the fields of that step's grid).
+    pub patches: Vec<Patch>,
+    /// Sums over bodies (only with more than one body).
+    pub global: Option<Global>,
+    next: Vec<DVec2>,
+}
+
+impl Solver {
+    /// Scratch for `setup`; sorts the points.
+    pub fn new(setup: &Setup, state: &mut State) -> Self {
+        let nb = setup.bodies.len();
+        let mut w = Solver {
+            layout: state.particles.sort(&setup.grid, nb),
+            resort: false,
+            bounds: vec![(DVec2::INFINITY, DVec2::NEG_INFINITY); nb],
+            rigid: setup
+                .bodies
+                .iter()
+                .map(|b| matches!(b.motion, Motion::Prescribed(_)))
+                .collect(),
+            patches: vec![Patch::default(); nb],
+            global: setup.multi_body().then(|| Global::new(&setup.grid)),
+            ..Default::default()
+        };
+        let p = &state.particles;
+        for i in 0..p.len() {
+            let b = &mut w.bounds[p.body[i] as usize];
+            *b = (b.0.min(p.pos[i]), b.1.max(p.pos[i]));
+        }
+        state.touch = vec![Touch::default(); nb];
+        w
+    }
+
+    /// Where each body's points sit in the sorted arrays.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+}
+
+/// Advances the state by one time step `setup.dt`.
+pub fn step(setup: &Setup, s: &mut State, w: &mut Solver) -> Result<(), Unstable> {
+    match setup.shape {
+        ShapeFunction::Linear => step_with::<Linear>(setup, s, w),
+        ShapeFunction::Gimp => step_with::<Gimp>(setup, s, w),
+        ShapeFunction::Bspline2 => step_with::<Bspline2>(setup, s, w),
+    }
+}
+
+fn step_with<K: Kernel>(setup: &Setup, s: &mut State, w: &mut Solver) -> Result<(), Unstable> {
+    prepare(setup, &mut s.particles, w);
+    p2g::<K>(setup, &s.particles, w);
+    let mut touch = correct(setup, w, Pass::Interpolated, false);
+    match setup.scheme {
+        UpdateScheme::Usf => stress_first::<K>(setup, &mut s.particles, w, setup.dt),
+        UpdateScheme::Usavg => stress_first::<K>(setup, &mut s.particles, w, 0.5 * setup.dt),
+        _ => {}
+    }
+    integrate(setup, w);
+    touch = merge(touch, correct(setup, w, Pass::Integrated, true));
+    grid_velocities(setup, w);
+    let seen = g2p::<K>(setup, &mut s.particles, w);
+    if setup.scheme == UpdateScheme::Musl {
+        remap::<K>(setup, &s.particles, w);
+        touch = merge(touch, correct(setup, w, Pass::Interpolated, true));
+        grid_velocities(setup, w);
+        stress_last::<K>(setup, &mut s.particles, w);
+    }
+    s.touch = touch;
+    s.time += setup.dt;
+    s.step += 1;
+    finish(setup, s, w, seen)
+}
+
+fn merge(a: Vec<Touch>, b: Vec<Touch>) -> Vec<Touch> {
+    a.into_iter().zip(b).map(|(x, y)| x.merge(y)).collect()
+}
+
+fn place(setup: &Setup) -> Place {
+    Place {
+        lo: setup.grid.lo,
+        inv_h: 1.0 / setup.grid.h,
+        lp: setup.half_width,
+    }
+}
+
+/// Re-sorts the points if any left its strip, and sizes each body's patch to its points.
+fn prepare(setup: &Setup, p: &mut Particles, w: &mut Solver) {
+    if w.resort {
+        w.layout = p.sort(&setup.grid, setup.bodies.len());
+        w.resort = false;
+    }
+    let grid = &setup.grid;
+    let stored = grid.stored();
+    w.patches
+        .par_iter_mut()
+        .zip(&w.bounds)
+        .for_each(|(patch, &(lo, hi))| {
+            let (a, z) = (grid.cell_of(lo), grid.cell_of(hi));
+            // Cells [a, z] reach stored nodes [a, z + 3] (3-node stencil, one ghost).
+            patch.reset(a, [(z[0] + 4).min(stored[0]), (z[1] + 4).min(stored[1])]);
+        });
+}
+
+/// The same-colour strips' windows onto the patches, with the layout entry they serve.
+fn views<'a>(patches: &'a mut [Patch], layout: &Layout, colour: u32) -> Vec<(usize, View<'a>)> {
+    let mut out = Vec::new();
+    let mut strips = layout
+        .strips
+        .iter()
+        .enumerate()
+        .filter(|(_, st)| st.1 % 2 == colour)
+        .peekable();
+    for (b, patch) in patches.iter_mut().enumerate() {
+        let rows = patch.size[1];
+        let row0 = patch.lo[1];
+        let (p0, p1) = patch.columns();
+        let mut nodes: &mut [Node] = &mut patch.nodes;
+        let mut kin: &mut [Kin] = &mut patch.kin;
+        let mut cur = p0;
+        while let Some(&(k, &(sb, strip, _, _))) = strips.peek() {
+            if sb as usize != b {
+                break;
+            }
+            strips.next();
+            let (a, z) = strip_columns(strip as usize);
+            let (a, z) = (a.max(cur), z.min(p1).max(a.max(cur)));
+            let (_, rest) = std::mem::take(&mut nodes).split_at_mut((a - cur) * rows);
+            let (mine, rest) = rest.split_at_mut((z - a) * rows);
+            nodes = rest;
+            let (_, krest) = std::mem::take(&mut kin).split_at_mut((a - cur) * rows);
+            let (kmine, krest) = krest.split_at_mut((z - a) * rows);
+            kin = krest;
+            cur = z;
+            out.push((
+                k,
+                View {
+                    col0: a,
+                    row0,
+                    rows,
+                    nodes: mine,
+                    kin: kmine,
+                },
+            ));
+        }
+    }
+    out
+}
+
+fn source(p: &Particles) -> Source<'_> {
+    Source {
+        mass: &p.mass,
+        vol0: &p.vol0,
+        pos: &p.pos,
+        vel: &p.vel,
+        def: &p.def,
+        stress: &p.stress,
+    }
+}
+
+/// Mass, momentum, mass gradient (several bodies) and, for USL/MUSL, internal force.
+fn p2g<K: Kernel>(setup: &Setup, p: &Particles, w: &mut Solver) {
+    let place = place(setup);
+    let src = source(p);
+    let force = matches!(setup.scheme, UpdateScheme::Usl | UpdateScheme::Musl);
+    let grad = setup.multi_body();
+    let rigid = &w.rigid;
+    for colour in 0..2 {
+        let layout = &w.layout;
+        views(&mut w.patches, layout, colour)
+            .into_par_iter()
+            .for_each(|(k, mut view)| {
+                let (b, _, start, end) = layout.strips[k];
+                let r = (start, end);
+                match (force && !rigid[b as usize], grad) {
+                    (true, true) => transfer::scatter::<K, true, true>(&place, src, r, &mut view),
+                    (true, false) => transfer::scatter::<K, true, false>(&place, src, r, &mut view),
+                    (false, true) => transfer::scatter::<K, false, true>(&place, src, r, &mut view),
+                    (false, false) => {
+                        transfer::scatter::<K, false, false>(&place, src, r, &mut view)
+                    }
+                }
+            });
+    }
+}
+
+/// One contact correction: sums the bodies (if several), then corrects each free body
+/// against the others and the walls.
+fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool) -> Vec<Touch> {
+    if setup.pass1_to_particles && pass == Pass::Interpolated && !momentum_only {
+        // Keep the interpolated velocity so FLIP can see this pass's change too.
+        w.patches.par_iter_mut().for_each(|patch| {
+            for (n, k) in patch.nodes.iter().zip(patch.kin.iter_mut()) {
+                k.a = if n.m > 0.0 { n.p / n.m } else { DVec2::ZERO };
+            }
+        });
+    }
+    if let Some(g) = &mut w.global {
+        g.accumulate(&w.patches, &w.rigid, momentum_only);
+    }
+    let global = w.global.as_ref();
+    let rigid = &w.rigid;
+    w.patches
+        .par_iter_mut()
+        .enumerate()
+        .map(|(b, patch)| {
+            if rigid[b] {
+                return Touch::default();
+            }
+            let t = match global {
+                Some(g) => contact::bodies(
+                    b as u16,
+                    patch,
+                    &g.nodes,
+                    g.dims[1],
+                    &setup.contact,
+                    pass,
+                    setup.dt,
+                ),
+                None => Touch::default(),
+            };
+            t.merge(contact::walls(
+                patch,
+                &setup.grid,
+                &setup.walls,
+                pass,
+                setup.dt,
+            ))
+        })
+        .collect()
+}
+
+/// USF (and USAVG's first half): strain rate from the corrected interpolated
+/// velocities, stress over `dt`, internal force.
+fn stress_first<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt: f64) {
+    w.patches.par_iter_mut().for_each(|patch| {
+        for (n, k) in patch.nodes.iter().zip(patch.kin.iter_mut()) {
+            k.v = if n.m > 0.0 { n.p / n.m } else { DVec2::ZERO };
+        }
+    });
+    let place = place(setup);
+    for colour in 0..2 {
+        let layout = &w.layout;
+        let vol0 = &p.vol0;
+        let mut pts = split_points(
+            (&mut p.pos, &mut p.vel, &mut p.def, &mut p.stress),
+            layout,
+            None,
+        );
+        let mut views = views(&mut w.patches, layout, colour);
+        let jobs: Vec<_> = views
+            .iter_mut()
+            .map(|(k, view)| (*k, view, pts[*k].take()))
+            .collect();
+        jobs.into_par_iter().for_each(|(k, view, pts)| {
+            let (b, _, start, _) = layout.strips[k];
+            let body = &setup.bodies[b as usize];
+            if let (Motion::Free, Some(mut pts)) = (body.motion, pts) {
+                let m = &setup.materials[body.material];
+                transfer::stress_and_force::<K>(&place, m, dt, &vol0[start..], &mut pts, view);
+            }
+        });
+    }
+}
+
+/// The mutable point fields a gather splits.
+type Fields<'a> = (
+    &'a mut [DVec2],
+    &'a mut [DVec2],
+    &'a mut [glam::DMat2],
+    &'a mut [crate::material::Stress],
+);
+
+fn fields(p: &mut Particles) -> Fields<'_> {
+    (&mut p.pos, &mut p.vel, &mut p.def, &mut p.stress)
+}
+
+/// Splits the points' mutable fields into one piece per strip of the layout.
+fn split_points<'a>(
+    fields: Fields<'a>,
+    layout: &Layout,
+    next: Option<&'a mut [DVec2]>,
+) -> Vec<Option<Points<'a>>> {
+    let (mut pos, mut vel, mut def, mut stress) = fields;
+    let mut next = next;
+    let mut out = Vec::with_capacity(layout.strips.len());
+    for &(_, _, start, end) in &layout.strips {
+        let n = end - start;
+        let (a, r) = std::mem::take(&mut pos).split_at_mut(n);
+        pos = r;
+        let (b, r) = std::mem::take(&mut vel).split_at_mut(n);
+        vel = r;
+        let (c, r) = std::mem::take(&mut def).split_at_mut(n);
+        def = r;
+        let (d, r) = std::mem::take(&mut stress).split_at_mut(n);
+        stress = r;
+        let e = next.take().map(|nx| {
+            let (e, r) = nx.split_at_mut(n);
+            next = Some(r);
+            e
+        });
+        out.push(Some(Points {
+            pos: a,
+            vel: b,
+            def: c,
+            stress: d,
+            next: e,
+        }));
+    }
+    out
+}
+
+/// Gravity and integration of the free bodies' momenta: p* = p + (f + m g) Δt.
+fn integrate(setup: &Setup, w: &mut Solver) {
+    let (g, dt) = (setup.gravity, setup.dt);
+    w.patches
+        .par_iter_mut()
+        .zip(&w.rigid)
+        .for_each(|(patch, &rigid)| {
+            if rigid {
+                return;
+            }
+            for n in patch.nodes.iter_mut() {
+                if n.m > 0.0 {
+                    n.f += n.m * g;
+                    n.p += n.f * dt;
+                }
+            }
+        });
+}
+
+/// Nodal velocities and FLIP accelerations from the corrected momenta and forces.
+fn grid_velocities(setup: &Setup, w: &mut Solver) {
+    let through = setup.pass1_to_particles;
+    let inv_dt = 1.0 / setup.dt;
+    w.patches.par_iter_mut().for_each(|patch| {
+        for (n, k) in patch.nodes.iter().zip(patch.kin.iter_mut()) {
+            if n.m > 0.0 {
+                let v = n.p / n.m;
+                k.a = if through {
+                    (v - k.a) * inv_dt
+                } else {
+                    n.f / n.m
+                };
+                k.v = v;
+            } else {
+                *k = Kin::default();
+            }
+        }
+    });
+}
+
+/// Grid to particles: velocity, position and (USL) stress.
+fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) -> Seen {
+    let place = place(setup);
+    let hi = setup.grid.hi();
+    let musl = setup.scheme == UpdateScheme::Musl;
+    if musl {
+        w.next.resize(p.len(), DVec2::ZERO);
+    }
+    let layout = &w.layout;
+    let patches = &w.patches;
+    let next = musl.then_some(&mut w.next[..]);
+    let pts = split_points(fields(p), layout, next);
+    let seen: Vec<(u16, Seen)> = pts
+        .into_par_iter()
+        .enumerate()
+        .map(|(k, pts)| {
+            let mut pts = pts.expect("one piece per strip");
+            let (b, strip, _, _) = layout.strips[k];
+            let body = &setup.bodies[b as usize];
+            let patch = &patches[b as usize];
+            let view = (&patch.kin[..], patch.lo, patch.size[1]);
+            let strip = strip as usize;
+            let seen = match body.motion {
+                Motion::Prescribed(v) => {
+                    transfer::move_rigid(&place, hi, v, setup.dt, strip, &mut pts)
+                }
+                Motion::Free => {
+                    let m = &setup.materials[body.material];
+                    let dt = setup.dt;
+                    let f = setup.flip;
+                    match setup.scheme {
+                        UpdateScheme::Usl => transfer::gather::<K, true>(
+                            &place,
+                            hi,
+                            m,
+                            (dt, dt),
+                            f,
+                            view,
+                            strip,
+                            &mut pts,
+                        ),
+                        UpdateScheme::Usavg => transfer::gather::<K, true>(
+                            &place,
+                            hi,
+                            m,
+                            (dt, 0.5 * dt),
+                            f,
+                            view,
+                            strip,
+                            &mut pts,
+                        ),
+                        _ => transfer::gather::<K, false>(
+                            &place,
+                            hi,
+                            m,
+                            (dt, dt),
+                            f,
+                            view,
+                            strip,
+                            &mut pts,
+                        ),
+                    }
+                }
+            };
+            (b, seen)
+        })
+        .collect();
+    for b in &mut w.bounds {
+        *b = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+    }
+    let mut all = Seen::empty();
+    for (b, s) in seen {
+        let bb = &mut w.bounds[b as usize];
+        *bb = (bb.0.min(s.min), bb.1.max(s.max));
+        all = all.merge(s);
+    }
+    all
+}
+
+/// MUSL: the updated particle momenta mapped back to the grid at the old positions.
+fn remap<K: Kernel>(setup: &Setup, p: &Particles, w: &mut Solver) {
+    w.patches.par_iter_mut().for_each(|patch| {
+        for n in patch.nodes.iter_mut() {
+            n.p = DVec2::ZERO;
+        }
+    });
+    let place = place(setup);
+    let src = source(p);
+    for colour in 0..2 {
+        let layout = &w.layout;
+        views(&mut w.patches, layout, colour)
+            .into_par_iter()
+            .for_each(|(k, mut view)| {
+                let (_, _, start, end) = layout.strips[k];
+                transfer::scatter_momentum::<K>(&place, src, (start, end), &mut view);
+            });
+    }
+}
+
+/// MUSL: stress from the re-mapped grid velocities, then the points move.
+fn stress_last<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) {
+    let place = place(setup);
+    let layout = &w.layout;
+    let patches = &w.patches;
+    let pts = split_points(fields(p), layout, Some(&mut w.next[..]));
+    pts.into_par_iter().enumerate().for_each(|(k, pts)| {
+        let mut pts = pts.expect("one piece per strip");
+        let (b, _, _, _) = layout.strips[k];
+        let body = &setup.bodies[b as usize];
+        let patch = &patches[b as usize];
+        match body.motion {
+            Motion::Free => {
+                let m = &setup.materials[body.material];
+                let view = (&patch.kin[..], patch.lo, patch.size[1]);
+                transfer::gather_stress::<K>(&place, m, setup.dt, view, &mut pts);
+            }
+            Motion::Prescribed(_) => {
+                let next = pts.next.take().expect("MUSL keeps the new positions apart");
+                pts.pos.copy_from_slice(next);
+            }
+        }
+    });
+}
+
+/// Decides whether the next step needs a re-sort, and stops on escaped points.
+fn finish(setup: &Setup, s: &State, w: &mut Solver, seen: Seen) -> Result<(), Unstable> {
+    if seen.escaped {
+        let p = &s.particles;
+        let lo = setup.grid.lo;
+        let hi = setup.grid.hi();
+        let i = (0..p.len())
+            .find(|&i| !(p.pos[i].cmpge(lo).all() && p.pos[i].cmple(hi).all()))
+            .unwrap_or(0);
+        return Err(Unstable(format!(
+            "point {} of body \"{}\" is at ({:.6e}, {:.6e}), outside the grid [{:?}, {:?}] or not finite",
+            p.id[i],
+            setup.bodies[p.body[i] as usize].name,
+            p.pos[i].x,
+            p.pos[i].y,
+            lo.to_array(),
+            hi.to_array()
+        )));
+    }
+    w.resort |= seen.drifted;
+    Ok(())
+}
