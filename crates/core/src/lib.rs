@@ -11,6 +11,8 @@
 //!   with [`json`];
 //! - [`rng`]: the one seeded random generator used everywhere, so runs are
 //!   reproducible;
+//! - [`lammps_data`]: reader for LAMMPS `atom_style sphere` data files, so
+//!   beds built with LAMMPS can start a grains run;
 //! - [`atomic`]: the write-then-rename primitive the writers above share, so
 //!   an interrupted run never leaves a half-written file behind.
 #![warn(missing_docs)]
@@ -19,6 +21,7 @@ pub mod atomic;
 pub mod checks;
 pub mod history;
 pub mod json;
+pub mod lammps_data;
 pub mod plot;
 pub mod pvd;
 pub mod rng;

@@ -62,36 +62,84 @@ pub fn damping_ratio(e: f64) -> f64 {
     -l / (l * l + std::f64::consts::PI.powi(2)).sqrt()
 }
 
-/// Resolved parameters of one material pair, read by the force kernel.
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
+/// Resolved parameters of one material pair, read by the force kernel. Both routes are
+/// folded into one branch-free form: dashpot c_n = `dash_sqrt`·√m_eff + `gamma_n`·m_eff
+/// (the first term is the material route's 2ξ√(K_n m_eff), the second LAMMPS's m_eff γn),
+/// so the kernel can run over many contacts at once without asking which route it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairParams {
     /// Normal stiffness.
     pub kn: f64,
-    /// Tangential stiffness.
+    /// Tangential stiffness (> 0).
     pub kt: f64,
+    /// 1 / kt.
+    pub inv_kt: f64,
     /// Friction coefficient.
     pub mu: f64,
-    /// Damping ratio ξ (material route) — the dashpot is 2ξ√(kn m_eff).
-    pub xi_n: f64,
-    /// Normal damping rate γn (LAMMPS route) — the dashpot is m_eff γn.
+    /// 2ξ√kn (material route; 0 for LAMMPS parameters).
+    pub dash_sqrt: f64,
+    /// Normal damping rate γn (LAMMPS route; 0 for the material route).
     pub gamma_n: f64,
     /// Tangential damping rate γt — the dashpot is m_eff γt.
     pub gamma_t: f64,
-    /// Whether ξ (true) or γn (false) defines the normal dashpot.
-    pub by_ratio: bool,
-    /// Clamp the normal force at zero.
-    pub limit_damping: bool,
+    /// Lowest normal force: 0 with `limit_damping`, −∞ without.
+    pub fn_floor: f64,
+}
+
+impl Default for PairParams {
+    fn default() -> Self {
+        PairParams::lammps(1.0, 1.0, 0.0, 0.0, 0.0, false)
+    }
 }
 
 impl PairParams {
+    /// The material route: stiffnesses, friction and restitution e (ξ from e).
+    pub fn material(kn: f64, kt: f64, mu: f64, e: f64, limit_damping: bool) -> Self {
+        PairParams {
+            kn,
+            kt,
+            inv_kt: 1.0 / kt,
+            mu,
+            dash_sqrt: 2.0 * damping_ratio(e) * kn.sqrt(),
+            gamma_n: 0.0,
+            gamma_t: 0.0,
+            fn_floor: if limit_damping {
+                0.0
+            } else {
+                f64::NEG_INFINITY
+            },
+        }
+    }
+
+    /// The LAMMPS `gran/hooke/history` route.
+    pub fn lammps(
+        kn: f64,
+        kt: f64,
+        gamma_n: f64,
+        gamma_t: f64,
+        mu: f64,
+        limit_damping: bool,
+    ) -> Self {
+        PairParams {
+            kn,
+            kt,
+            inv_kt: 1.0 / kt,
+            mu,
+            dash_sqrt: 0.0,
+            gamma_n,
+            gamma_t,
+            fn_floor: if limit_damping {
+                0.0
+            } else {
+                f64::NEG_INFINITY
+            },
+        }
+    }
+
     /// Normal dashpot coefficient for a pair of effective mass `m_eff`.
     #[inline(always)]
     pub fn normal_dashpot(&self, m_eff: f64) -> f64 {
-        if self.by_ratio {
-            2.0 * self.xi_n * (self.kn * m_eff).sqrt()
-        } else {
-            self.gamma_n * m_eff
-        }
+        self.dash_sqrt * m_eff.sqrt() + self.gamma_n * m_eff
     }
 
     /// Restitution coefficient of a normal binary collision with this pair (unclamped).
@@ -164,16 +212,7 @@ fn pair(model: &ContactModel, a: &Material, b: &Material) -> PairParams {
             let g = 0.5 * (a.shear_modulus().unwrap_or(0.0) + b.shear_modulus().unwrap_or(0.0));
             let e = 0.5 * (a.restitution.unwrap_or(1.0) + b.restitution.unwrap_or(1.0));
             let mu = 0.5 * (a.friction.unwrap_or(0.0) + b.friction.unwrap_or(0.0));
-            PairParams {
-                kn: y,
-                kt: g,
-                mu,
-                xi_n: damping_ratio(e),
-                gamma_n: 0.0,
-                gamma_t: 0.0,
-                by_ratio: true,
-                limit_damping,
-            }
+            PairParams::material(y, g, mu, e, limit_damping)
         }
         ContactModel::HookeHistory {
             kn,
@@ -182,16 +221,7 @@ fn pair(model: &ContactModel, a: &Material, b: &Material) -> PairParams {
             gamma_t,
             mu,
             limit_damping,
-        } => PairParams {
-            kn,
-            kt,
-            mu,
-            xi_n: 0.0,
-            gamma_n,
-            gamma_t,
-            by_ratio: false,
-            limit_damping,
-        },
+        } => PairParams::lammps(kn, kt, gamma_n, gamma_t, mu, limit_damping),
     }
 }
 
@@ -202,12 +232,7 @@ mod tests {
     #[test]
     fn ratio_reproduces_restitution() {
         for e in [0.1, 0.3, 0.5, 0.7, 0.9, 1.0] {
-            let p = PairParams {
-                kn: 7.2e10,
-                xi_n: damping_ratio(e),
-                by_ratio: true,
-                ..Default::default()
-            };
+            let p = PairParams::material(7.2e10, 3e10, 0.3, e, false);
             assert!((p.restitution(1e-3) - e).abs() < 1e-12, "e = {e}");
         }
     }

@@ -1,6 +1,7 @@
 //! The contact law (one function for particle pairs and walls) and the pair pass.
 
-use crate::contact::PairParams;
+use crate::contact::{PairParams, PairTable};
+use crate::domain::Image;
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
@@ -8,23 +9,68 @@ use crate::CHUNK;
 use glam::DVec2;
 use rayon::prelude::*;
 
-/// Normal and tangential force magnitudes of one contact.
+/// Normal and tangential force of one contact, and its updated tangential spring.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactForce {
     /// Normal force (positive pushes the bodies apart).
     pub normal: f64,
     /// Tangential force on body i along t = (−n_y, n_x).
     pub tangential: f64,
+    /// The tangential spring ξ after this evaluation.
+    pub shear: f64,
 }
 
 /// Linear spring-dashpot normal force and incremental tangential spring with a Coulomb
-/// cap, for a contact with unit normal `n` (from body i towards body j) and overlap
-/// `overlap` > 0.
+/// cap, for a contact with unit normal (`nx`, `ny`) from body i towards body j and
+/// overlap `overlap` > 0.
 ///
-/// `v_rel` is v_i − v_j; `spin` is r_i ω_i + r_j ω_j (the rotational part of the
-/// contact points' relative sliding speed, r_j ω_j = 0 for a wall); `shear` is the
-/// contact's tangential spring, advanced by v_t·`dt` (pass `dt = 0` to evaluate without
-/// advancing it).
+/// (`vx`, `vy`) is v_i − v_j; `spin` is r_i ω_i + r_j ω_j (the rotational part of the
+/// contact points' sliding speed; r_j ω_j = 0 for a wall); `shear` is the contact's
+/// tangential spring before the step, advanced by v_t·`dt` (`dt = 0` evaluates without
+/// advancing it). Written without branches, so a loop over many contacts vectorises.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn contact_law(
+    p: &PairParams,
+    m_eff: f64,
+    nx: f64,
+    ny: f64,
+    overlap: f64,
+    vx: f64,
+    vy: f64,
+    spin: f64,
+    shear: f64,
+    dt: f64,
+) -> ContactForce {
+    let vn = vx * nx + vy * ny; // > 0 while approaching
+    let vt = (vy * nx - vx * ny) + spin; // along t = (−n_y, n_x)
+    let fnorm = p.kn * overlap + p.normal_dashpot(m_eff) * vn;
+    let fnorm = if fnorm < p.fn_floor {
+        p.fn_floor
+    } else {
+        fnorm
+    };
+    let ct = p.gamma_t * m_eff;
+    let xi = shear + vt * dt;
+    let trial = -(p.kt * xi + ct * vt);
+    let cap = p.mu * fnorm.abs();
+    let slide = trial.abs() > cap;
+    // Sliding: the force sits on the cap and the spring is reset so that spring +
+    // dashpot give exactly that force (the LAMMPS convention).
+    let ft = if slide { cap.copysign(trial) } else { trial };
+    let xi = if slide {
+        -(ft + ct * vt) * p.inv_kt
+    } else {
+        xi
+    };
+    ContactForce {
+        normal: fnorm,
+        tangential: ft,
+        shear: xi,
+    }
+}
+
+/// [`contact_law`] with vector arguments, advancing `shear` in place.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn contact_force(
@@ -37,43 +83,74 @@ pub fn contact_force(
     shear: &mut f64,
     dt: f64,
 ) -> ContactForce {
-    let t = n.perp();
-    let vn = v_rel.dot(n); // > 0 while approaching
-    let vt = v_rel.dot(t) + spin;
-    let mut fnorm = p.kn * overlap + p.normal_dashpot(m_eff) * vn;
-    if p.limit_damping && fnorm < 0.0 {
-        fnorm = 0.0;
-    }
-    let ct = p.gamma_t * m_eff;
-    *shear += vt * dt;
-    let mut ft = -(p.kt * *shear + ct * vt);
-    let cap = p.mu * fnorm.abs();
-    if ft.abs() > cap {
-        // Slide: the spring is reset so that spring + dashpot sit exactly on the cap
-        // (the LAMMPS convention), keeping the history consistent with the force.
-        ft = cap.copysign(ft);
-        *shear = if p.kt > 0.0 {
-            -(ft + ct * vt) / p.kt
-        } else {
-            0.0
-        };
-    }
-    ContactForce {
-        normal: fnorm,
-        tangential: ft,
+    let f = contact_law(
+        p, m_eff, n.x, n.y, overlap, v_rel.x, v_rel.y, spin, *shear, dt,
+    );
+    *shear = f.shear;
+    f
+}
+
+/// Where the kernel finds a pair's parameters. One material (the common case) skips the
+/// table lookup; the kernel is generic so each case compiles to its own loop.
+pub trait PairLookup: Sync {
+    /// Whether every pair has the same parameters, `params(0, 0)`.
+    const UNIFORM: bool;
+    /// Parameters of materials (a, b).
+    fn params(&self, a: u16, b: u16) -> &PairParams;
+}
+
+/// Every pair has the same parameters.
+pub struct Uniform(pub PairParams);
+
+impl PairLookup for Uniform {
+    const UNIFORM: bool = true;
+    #[inline(always)]
+    fn params(&self, _: u16, _: u16) -> &PairParams {
+        &self.0
     }
 }
 
-/// Evaluates every listed pair: writes each entry's force on its row owner and its
-/// tangential force, and advances the tangential springs by `dt` (0 to only evaluate).
-pub fn pair_contacts(setup: &Setup, p: &Particles, list: &mut ContactList, dt: f64) {
+impl PairLookup for PairTable {
+    const UNIFORM: bool = false;
+    #[inline(always)]
+    fn params(&self, a: u16, b: u16) -> &PairParams {
+        self.get(a as usize, b as usize)
+    }
+}
+
+/// Evaluates every listed pair and advances the tangential springs by `dt` (0 to only
+/// evaluate). Each particle's force and torque are set to the sum of its contacts within
+/// its chunk (both sides of a pair are applied at once); an entry whose partner lies in
+/// another chunk keeps its force (`fpair`, `ftan`) for `walls_gather_kick` to add to the
+/// partner. Chunks are fixed, so the order of every sum is the same for any thread count.
+pub fn pair_contacts(setup: &Setup, p: &mut Particles, list: &mut ContactList, dt: f64) {
+    if setup.pairs.len() == 1 {
+        let uniform = Uniform(*setup.pairs.get(0, 0));
+        crate::with_image!(setup.domain, run::<Uniform>, (setup, &uniform, p, list, dt));
+    } else {
+        crate::with_image!(
+            setup.domain,
+            run::<PairTable>,
+            (setup, &setup.pairs, p, list, dt)
+        );
+    }
+}
+
+fn run<L: PairLookup, const PX: bool, const PY: bool>(
+    setup: &Setup,
+    lookup: &L,
+    p: &mut Particles,
+    list: &mut ContactList,
+    dt: f64,
+) {
     let n = p.len();
     let row = &list.row;
-    let nbr = &list.nbr;
-    // Split the entry arrays at chunk boundaries so each task owns its slice.
+    // Split entry and particle arrays at chunk boundaries so each task owns its slices.
     let mut jobs = Vec::with_capacity(n.div_ceil(CHUNK));
     let (mut shear, mut fpair, mut ftan) =
         (&mut list.shear[..], &mut list.fpair[..], &mut list.ftan[..]);
+    let mut force = p.force.chunks_mut(CHUNK);
+    let mut torque = p.torque.chunks_mut(CHUNK);
     let mut done = 0usize;
     for c in 0..n.div_ceil(CHUNK) {
         let range = c * CHUNK..((c + 1) * CHUNK).min(n);
@@ -81,50 +158,229 @@ pub fn pair_contacts(setup: &Setup, p: &Particles, list: &mut ContactList, dt: f
         let (s, s_rest) = shear.split_at_mut(len);
         let (f, f_rest) = fpair.split_at_mut(len);
         let (t, t_rest) = ftan.split_at_mut(len);
-        jobs.push((range, s, f, t));
+        jobs.push(Chunk {
+            range,
+            shear: s,
+            fpair: f,
+            ftan: t,
+            force: force.next().unwrap_or_default(),
+            torque: torque.next().unwrap_or_default(),
+        });
         shear = s_rest;
         fpair = f_rest;
         ftan = t_rest;
         done += len;
     }
-    jobs.into_par_iter()
-        .for_each(|(range, shear, fpair, ftan)| {
-            let base = row[range.start] as usize;
-            for i in range {
-                let (pi, ri, vi, wi) = (p.pos[i], p.radius[i], p.vel[i], p.omega[i]);
-                let mi = p.material[i] as usize;
-                for e in row[i] as usize..row[i + 1] as usize {
-                    let j = nbr[e] as usize;
-                    let k = e - base;
-                    let d = setup.domain.min_image(p.pos[j] - pi);
-                    let rsum = ri + p.radius[j];
-                    let dist2 = d.length_squared();
-                    if dist2 >= rsum * rsum || dist2 == 0.0 {
-                        shear[k] = 0.0;
-                        fpair[k] = DVec2::ZERO;
-                        ftan[k] = 0.0;
-                        continue;
-                    }
-                    let dist = dist2.sqrt();
-                    let nrm = d / dist;
-                    let params = setup.pairs.get(mi, p.material[j] as usize);
-                    let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
-                    let spin = ri * wi + p.radius[j] * p.omega[j];
-                    let f = contact_force(
-                        params,
-                        m_eff,
-                        nrm,
-                        rsum - dist,
-                        vi - p.vel[j],
-                        spin,
-                        &mut shear[k],
-                        dt,
-                    );
-                    fpair[k] = -f.normal * nrm + f.tangential * nrm.perp();
-                    ftan[k] = f.tangential;
+    let ctx = Ctx {
+        image: Image::<PX, PY>::new(&setup.domain),
+        lookup,
+        row,
+        nbr: &list.nbr,
+        pos: &p.pos,
+        vel: &p.vel,
+        omega: &p.omega,
+        radius: &p.radius,
+        inv_mass: &p.inv_mass,
+        material: &p.material,
+        dt,
+    };
+    jobs.into_par_iter().for_each(|mut job| ctx.chunk(&mut job));
+}
+
+/// Touching pairs are processed in blocks of this many: first their geometry and inputs
+/// are gathered (one distance test per entry), then the contact law runs over the whole
+/// block as a loop over plain arrays, which the compiler vectorises, then the forces are
+/// scattered onto the particles in entry order.
+const BLOCK: usize = 64;
+
+/// Everything the pair pass reads.
+struct Ctx<'a, L, const PX: bool, const PY: bool> {
+    image: Image<PX, PY>,
+    lookup: &'a L,
+    row: &'a [u32],
+    nbr: &'a [u32],
+    pos: &'a [DVec2],
+    vel: &'a [DVec2],
+    omega: &'a [f64],
+    radius: &'a [f64],
+    inv_mass: &'a [f64],
+    material: &'a [u16],
+    dt: f64,
+}
+
+/// The slices one task owns: its particles' rows, entries, forces and torques.
+struct Chunk<'a> {
+    range: std::ops::Range<usize>,
+    shear: &'a mut [f64],
+    fpair: &'a mut [DVec2],
+    ftan: &'a mut [f64],
+    force: &'a mut [DVec2],
+    torque: &'a mut [f64],
+}
+
+/// The touching pairs of one block, one array per quantity.
+struct Block {
+    len: usize,
+    entry: [u32; BLOCK],
+    i: [u32; BLOCK],
+    j: [u32; BLOCK],
+    params: [PairParams; BLOCK],
+    dx: [f64; BLOCK],
+    dy: [f64; BLOCK],
+    dist2: [f64; BLOCK],
+    rsum: [f64; BLOCK],
+    inv_msum: [f64; BLOCK],
+    vx: [f64; BLOCK],
+    vy: [f64; BLOCK],
+    spin: [f64; BLOCK],
+    xi: [f64; BLOCK],
+    fx: [f64; BLOCK],
+    fy: [f64; BLOCK],
+    ft: [f64; BLOCK],
+}
+
+impl Block {
+    fn new() -> Box<Self> {
+        Box::new(Block {
+            len: 0,
+            entry: [0; BLOCK],
+            i: [0; BLOCK],
+            j: [0; BLOCK],
+            params: [PairParams::default(); BLOCK],
+            dx: [0.0; BLOCK],
+            dy: [0.0; BLOCK],
+            dist2: [0.0; BLOCK],
+            rsum: [0.0; BLOCK],
+            inv_msum: [0.0; BLOCK],
+            vx: [0.0; BLOCK],
+            vy: [0.0; BLOCK],
+            spin: [0.0; BLOCK],
+            xi: [0.0; BLOCK],
+            fx: [0.0; BLOCK],
+            fy: [0.0; BLOCK],
+            ft: [0.0; BLOCK],
+        })
+    }
+}
+
+impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
+    /// The rows of one chunk. Forces of pairs inside the chunk go straight onto both
+    /// particles; pairs reaching into a later chunk leave their force in the entry.
+    fn chunk(&self, c: &mut Chunk) {
+        let base = self.row[c.range.start] as usize;
+        c.force.fill(DVec2::ZERO);
+        c.torque.fill(0.0);
+        let mut b = Block::new();
+        for i in c.range.clone() {
+            let (pi, ri, imi, vi, si) = (
+                self.pos[i],
+                self.radius[i],
+                self.inv_mass[i],
+                self.vel[i],
+                self.radius[i] * self.omega[i],
+            );
+            for e in self.row[i] as usize..self.row[i + 1] as usize {
+                let j = self.nbr[e] as usize;
+                let d = self.image.apply(self.pos[j] - pi);
+                let rj = self.radius[j];
+                let rsum = ri + rj;
+                let dist2 = d.length_squared();
+                let k = e - base;
+                if dist2 >= rsum * rsum || dist2 == 0.0 {
+                    c.shear[k] = 0.0;
+                    c.fpair[k] = DVec2::ZERO;
+                    c.ftan[k] = 0.0;
+                    continue;
+                }
+                let t = b.len;
+                let v = vi - self.vel[j];
+                b.entry[t] = k as u32;
+                b.i[t] = i as u32;
+                b.j[t] = j as u32;
+                if !L::UNIFORM {
+                    b.params[t] = *self.lookup.params(self.material[i], self.material[j]);
+                }
+                b.dx[t] = d.x;
+                b.dy[t] = d.y;
+                b.dist2[t] = dist2;
+                b.rsum[t] = rsum;
+                b.inv_msum[t] = imi + self.inv_mass[j];
+                b.vx[t] = v.x;
+                b.vy[t] = v.y;
+                b.spin[t] = si + rj * self.omega[j];
+                b.xi[t] = c.shear[k];
+                b.len += 1;
+                if b.len == BLOCK {
+                    self.flush(&mut b, c);
                 }
             }
-        });
+        }
+        self.flush(&mut b, c);
+    }
+
+    /// Runs the contact law over the block and scatters its forces.
+    fn flush(&self, b: &mut Block, c: &mut Chunk) {
+        if L::UNIFORM {
+            let p = *self.lookup.params(0, 0);
+            self.law(b, |_| p);
+        } else {
+            let params = b.params;
+            self.law(b, |t| params[t]);
+        }
+        self.scatter(b, c);
+    }
+
+    /// The contact law over the block's arrays: no branches and no indirection, so the
+    /// loop vectorises.
+    #[inline(always)]
+    fn law(&self, b: &mut Block, params: impl Fn(usize) -> PairParams) {
+        let n = b.len;
+        for t in 0..n {
+            let dist = b.dist2[t].sqrt();
+            // One division serves both 1/dist and m_eff = 1/(1/m_i + 1/m_j).
+            let q = 1.0 / (dist * b.inv_msum[t]);
+            let inv_dist = q * b.inv_msum[t];
+            let (nx, ny) = (b.dx[t] * inv_dist, b.dy[t] * inv_dist);
+            let f = contact_law(
+                &params(t),
+                q * dist,
+                nx,
+                ny,
+                b.rsum[t] - dist,
+                b.vx[t],
+                b.vy[t],
+                b.spin[t],
+                b.xi[t],
+                self.dt,
+            );
+            // Force on i: −F_n n + F_t t, with t = (−n_y, n_x).
+            b.fx[t] = -f.normal * nx - f.tangential * ny;
+            b.fy[t] = -f.normal * ny + f.tangential * nx;
+            b.ft[t] = f.tangential;
+            b.xi[t] = f.shear;
+        }
+    }
+
+    /// Adds the block's forces to its particles in entry order.
+    fn scatter(&self, b: &mut Block, c: &mut Chunk) {
+        let n = b.len;
+        let (first, end) = (c.range.start, c.range.end);
+        for t in 0..n {
+            let (i, j, k) = (b.i[t] as usize, b.j[t] as usize, b.entry[t] as usize);
+            let fv = DVec2::new(b.fx[t], b.fy[t]);
+            c.shear[k] = b.xi[t];
+            c.force[i - first] += fv;
+            c.torque[i - first] += self.radius[i] * b.ft[t];
+            if j < end {
+                c.force[j - first] -= fv;
+                c.torque[j - first] += self.radius[j] * b.ft[t];
+            } else {
+                c.fpair[k] = fv;
+                c.ftan[k] = b.ft[t];
+            }
+        }
+        b.len = 0;
+    }
 }
 
 #[cfg(test)]
@@ -133,13 +389,7 @@ mod tests {
 
     #[test]
     fn coulomb_cap_holds_and_history_matches_force() {
-        let p = PairParams {
-            kn: 1e4,
-            kt: 5e3,
-            mu: 0.3,
-            by_ratio: true,
-            ..Default::default()
-        };
+        let p = PairParams::lammps(1e4, 5e3, 0.0, 0.0, 0.3, false);
         let mut xi = 0.0;
         let f = contact_force(
             &p,

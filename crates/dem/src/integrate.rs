@@ -1,6 +1,7 @@
 //! Velocity-Verlet integration, fused with gravity, walls and the gathering of pair
 //! forces, so each stage is one sweep over the particles.
 
+use crate::domain::Image;
 use crate::forces::contact_force;
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
@@ -20,12 +21,29 @@ pub struct WallLoad {
     pub contacts: u32,
 }
 
-/// First half of velocity Verlet: half kick with the last forces, then drift, and wrap
-/// positions on periodic axes.
-pub fn kick_drift(setup: &Setup, p: &mut Particles) {
-    let dt = setup.dt;
-    let h = 0.5 * dt;
-    let domain = setup.domain;
+/// First half of velocity Verlet: half kick with the last forces and gravity, then
+/// drift, and wrap positions on periodic axes. Returns whether any particle has now moved
+/// more than skin/2 from `pos_at_build` (the neighbour list needs rebuilding) — measured
+/// in the same sweep, so the check costs no extra pass over memory.
+pub fn kick_drift(setup: &Setup, p: &mut Particles, pos_at_build: &[DVec2]) -> bool {
+    let stale = pos_at_build.len() != p.len();
+    let moved = crate::with_image!(
+        setup.domain,
+        kick_drift_chunks,
+        (setup, p, pos_at_build, stale)
+    );
+    moved || stale
+}
+
+fn kick_drift_chunks<const PX: bool, const PY: bool>(
+    setup: &Setup,
+    p: &mut Particles,
+    built: &[DVec2],
+    stale: bool,
+) -> bool {
+    let image = Image::<PX, PY>::new(&setup.domain);
+    let (dt, h, g) = (setup.dt, 0.5 * setup.dt, setup.gravity);
+    let limit2 = (0.5 * setup.skin).powi(2);
     p.pos
         .par_chunks_mut(CHUNK)
         .zip(p.vel.par_chunks_mut(CHUNK))
@@ -34,17 +52,36 @@ pub fn kick_drift(setup: &Setup, p: &mut Particles) {
         .zip(p.torque.par_chunks(CHUNK))
         .zip(p.inv_mass.par_chunks(CHUNK))
         .zip(p.inv_inertia.par_chunks(CHUNK))
-        .for_each(|((((((x, v), w), f), t), im), ii)| {
-            for k in 0..x.len() {
-                v[k] += h * im[k] * f[k];
+        .enumerate()
+        .map(|(c, ((((((x, v), w), f), t), im), ii))| {
+            let n = x.len();
+            let (v, w, f, t, im, ii) = (
+                &mut v[..n],
+                &mut w[..n],
+                &f[..n],
+                &t[..n],
+                &im[..n],
+                &ii[..n],
+            );
+            let mut moved = false;
+            for k in 0..n {
+                v[k] += h * (im[k] * f[k] + g);
                 w[k] += h * ii[k] * t[k];
-                x[k] = domain.wrap(x[k] + dt * v[k]);
+                x[k] = image.wrap(x[k] + dt * v[k]);
             }
-        });
+            if !stale {
+                let b = &built[c * CHUNK..c * CHUNK + n];
+                for k in 0..n {
+                    moved |= image.apply(x[k] - b[k]).length_squared() > limit2;
+                }
+            }
+            moved
+        })
+        .reduce(|| false, |a, b| a | b)
 }
 
-/// Sums each particle's pair forces (own entries and those where it is the partner),
-/// adds gravity and wall contacts (advancing wall springs by `dt_shear`), stores the
+/// Adds to each particle's own-entry sums (left in `force`/`torque` by the pair pass) the
+/// reactions of the entries where it is the partner, gravity and wall contacts (advancing wall springs by `dt_shear`), stores the
 /// total force and torque, and applies a kick of `kick` × acceleration to the velocities
 /// (½Δt to close a Verlet step; 0 for the initial evaluation).
 ///
@@ -67,7 +104,7 @@ pub fn walls_gather_kick(
     };
     let (pos, radius, inv_mass, inv_inertia, material) =
         (&p.pos, &p.radius, &p.inv_mass, &p.inv_inertia, &p.material);
-    let (row, fpair, ftan) = (&list.row, &list.fpair, &list.ftan);
+    let (fpair, ftan) = (&list.fpair, &list.ftan);
     let (rev_row, rev_entry, wall_near) = (&list.rev_row, &list.rev_entry, &list.wall_near);
     let gravity = setup.gravity;
 
@@ -84,16 +121,13 @@ pub fn walls_gather_kick(
             for k in 0..vel.len() {
                 let i = c * CHUNK + k;
                 let r = radius[i];
-                let mut f = gravity / inv_mass[i];
-                let mut tq = 0.0;
-                for e in row[i] as usize..row[i + 1] as usize {
-                    f += fpair[e];
-                    tq += r * ftan[e];
-                }
+                let mut f = force[k];
+                let mut t_rev = 0.0;
                 for &e in &rev_entry[rev_row[i] as usize..rev_row[i + 1] as usize] {
                     f -= fpair[e as usize];
-                    tq += r * ftan[e as usize];
+                    t_rev += ftan[e as usize];
                 }
+                let mut tq = torque[k] + r * t_rev;
                 let mut mask = wall_near[i];
                 while mask != 0 {
                     let w = mask.trailing_zeros() as usize;
@@ -129,7 +163,7 @@ pub fn walls_gather_kick(
                 }
                 force[k] = f;
                 torque[k] = tq;
-                vel[k] += kick * inv_mass[i] * f;
+                vel[k] += kick * (inv_mass[i] * f + gravity);
                 omega[k] += kick * inv_inertia[i] * tq;
             }
             loads

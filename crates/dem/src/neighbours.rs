@@ -23,13 +23,16 @@ pub struct ContactList {
     /// Tangential spring displacement ξ of each entry (m); zero when not touching.
     pub shear: Vec<f64>,
     /// Force on the row owner from this entry at the last evaluation (the partner gets
-    /// the opposite).
+    /// the opposite). Kept only for entries whose partner lies in another chunk; the
+    /// pair pass applies the others directly.
     pub fpair: Vec<DVec2>,
-    /// Tangential force F_t of this entry; each side's torque is its radius times F_t.
+    /// Tangential force F_t of this entry (each side's torque is its radius times F_t);
+    /// kept, like `fpair`, for cross-chunk entries.
     pub ftan: Vec<f64>,
-    /// Entries in which particle j is the partner are `rev_entry[rev_row[j]..rev_row[j+1]]`.
+    /// Cross-chunk entries in which particle j is the partner are
+    /// `rev_entry[rev_row[j]..rev_row[j+1]]`, in increasing entry order.
     pub rev_row: Vec<u32>,
-    /// Entry indices, grouped by partner.
+    /// Cross-chunk entry indices, grouped by partner.
     pub rev_entry: Vec<u32>,
     /// Bit w is set when wall w may touch the particle before the next rebuild.
     pub wall_near: Vec<u64>,
@@ -153,24 +156,6 @@ impl ContactList {
         self.nbr.is_empty()
     }
 
-    /// Whether any particle has moved more than skin/2 since the last rebuild (or the
-    /// list was never built).
-    pub fn needs_rebuild(&self, setup: &Setup, particles: &Particles) -> bool {
-        if self.pos_at_build.len() != particles.len() || self.builds == 0 {
-            return true;
-        }
-        let limit2 = (0.5 * setup.skin).powi(2);
-        particles
-            .pos
-            .par_chunks(CHUNK)
-            .zip(self.pos_at_build.par_chunks(CHUNK))
-            .any(|(p, q)| {
-                p.iter()
-                    .zip(q)
-                    .any(|(&a, &b)| setup.domain.min_image(a - b).length_squared() > limit2)
-            })
-    }
-
     /// Re-sorts the particles by cell, rebuilds the list and carries the tangential
     /// history of touching pairs (and walls) over to the new order.
     pub fn rebuild(&mut self, setup: &Setup, particles: &mut Particles) {
@@ -246,19 +231,31 @@ impl ContactList {
         out
     }
 
+    /// Indexes, by partner, the entries whose partner lies in another chunk than the
+    /// row owner: only their reactions are gathered after the pair pass.
     fn build_reverse(&mut self, n: usize) {
+        let mut owner = vec![0u32; self.nbr.len()];
+        for i in 0..n {
+            owner[self.row[i] as usize..self.row[i + 1] as usize].fill(i as u32);
+        }
+        let cross = |e: usize, j: u32| owner[e] as usize / CHUNK != j as usize / CHUNK;
         let mut count = vec![0u32; n + 1];
-        for &j in &self.nbr {
-            count[j as usize + 1] += 1;
+        for (e, &j) in self.nbr.iter().enumerate() {
+            if cross(e, j) {
+                count[j as usize + 1] += 1;
+            }
         }
         for k in 0..n {
             count[k + 1] += count[k];
         }
         self.rev_row.clone_from(&count);
         self.rev_entry.clear();
-        self.rev_entry.resize(self.nbr.len(), 0);
+        self.rev_entry.resize(self.rev_row[n] as usize, 0);
         let mut fill = count;
         for (e, &j) in self.nbr.iter().enumerate() {
+            if !cross(e, j) {
+                continue;
+            }
             let slot = &mut fill[j as usize];
             self.rev_entry[*slot as usize] = e as u32;
             *slot += 1;

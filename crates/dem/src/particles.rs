@@ -22,7 +22,8 @@ pub struct Particles {
     pub inv_inertia: Vec<f64>,
     /// Material index into the scenario's material list.
     pub material: Vec<u16>,
-    /// Total force of the last force evaluation (contacts, walls, gravity).
+    /// Contact force (particles and walls) of the last force evaluation; gravity acts as
+    /// an acceleration and is not included.
     pub force: Vec<DVec2>,
     /// Total torque of the last force evaluation.
     pub torque: Vec<f64>,

@@ -30,7 +30,7 @@ impl State {
             ..Default::default()
         };
         s.contacts.rebuild(setup, &mut s.particles);
-        pair_contacts(setup, &s.particles, &mut s.contacts, 0.0);
+        pair_contacts(setup, &mut s.particles, &mut s.contacts, 0.0);
         s.wall_loads = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, 0.0, 0.0);
         s
     }
@@ -39,11 +39,10 @@ impl State {
 /// Advances the state by one time step `setup.dt`.
 pub fn step(setup: &Setup, s: &mut State) {
     let dt = setup.dt;
-    kick_drift(setup, &mut s.particles);
-    if s.contacts.needs_rebuild(setup, &s.particles) {
+    if kick_drift(setup, &mut s.particles, &s.contacts.pos_at_build) {
         s.contacts.rebuild(setup, &mut s.particles);
     }
-    pair_contacts(setup, &s.particles, &mut s.contacts, dt);
+    pair_contacts(setup, &mut s.particles, &mut s.contacts, dt);
     s.wall_loads = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt);
     s.time += dt;
     s.step += 1;
