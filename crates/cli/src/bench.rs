@@ -26,11 +26,52 @@ pub enum BenchCommand {
         #[arg(long)]
         threads: Option<usize>,
     },
+    /// The MPM engine: an elastic block (or two in contact) falling in a walled box.
+    Mpm {
+        /// Material points.
+        #[arg(long, default_value_t = 32_768)]
+        particles: usize,
+        /// Cells per side of the unit box.
+        #[arg(long, default_value_t = 128)]
+        grid: usize,
+        /// Timed steps.
+        #[arg(long, default_value_t = 2000)]
+        steps: u64,
+        /// Worker threads.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// 1: one block; 2: two stacked blocks in frictional contact.
+        #[arg(long, default_value_t = 1)]
+        bodies: usize,
+        /// Shape function: linear, gimp or bspline2.
+        #[arg(long, default_value = "gimp")]
+        shape: String,
+        /// Stress update: usf, usl, usavg or musl.
+        #[arg(long, default_value = "usavg")]
+        update: String,
+    },
 }
 
 /// Runs the command.
 pub fn cmd_bench(what: BenchCommand) -> ExitCode {
     match what {
+        BenchCommand::Mpm {
+            particles,
+            grid,
+            steps,
+            threads,
+            bodies,
+            shape,
+            update,
+        } => crate::mpm::bench::run(crate::mpm::bench::Options {
+            particles,
+            grid,
+            steps,
+            threads,
+            bodies,
+            shape,
+            update,
+        }),
         BenchCommand::Dem {
             particles,
             steps,

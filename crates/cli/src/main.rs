@@ -2,6 +2,7 @@
 
 mod bench;
 mod dem;
+mod mpm;
 mod progress;
 mod summary;
 
@@ -52,6 +53,7 @@ enum Command {
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Engine {
     Dem,
+    Mpm,
 }
 
 /// Exit codes: 1 bad input (nothing written), 2 a check failed, 3 the run went unstable.
@@ -107,7 +109,8 @@ fn engine_of(src: &Source) -> Result<Engine, String> {
     match value.get("engine") {
         None => Ok(Engine::Dem),
         Some(toml::Value::String(s)) if s == "dem" => Ok(Engine::Dem),
-        Some(other) => Err(format!("{}: engine = {other}: must be one of \"dem\"", src.origin)),
+        Some(toml::Value::String(s)) if s == "mpm" => Ok(Engine::Mpm),
+        Some(other) => Err(format!("{}: engine = {other}: must be one of \"dem\", \"mpm\"", src.origin)),
     }
 }
 
@@ -126,6 +129,7 @@ fn cmd_run(path: Option<&Path>, out: Option<PathBuf>, threads: Option<usize>) ->
     };
     match engine {
         Engine::Dem => dem::cmd_run(&src.text, &src.origin, &src.base, out, threads),
+        Engine::Mpm => mpm::cmd_run(&src.text, &src.origin, &src.base, out, threads),
     }
 }
 
@@ -136,6 +140,7 @@ fn cmd_check(path: &Path, json: bool) -> ExitCode {
     };
     match engine_of(&src) {
         Ok(Engine::Dem) => dem::check::cmd_check(&src.text, &src.origin, &src.base, json),
+        Ok(Engine::Mpm) => mpm::cmd_check(&src.text, &src.origin, &src.base, json),
         Err(e) => fail(1, &e),
     }
 }
