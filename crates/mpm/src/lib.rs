@@ -28,6 +28,7 @@ pub mod nodes;
 pub mod particles;
 pub mod setup;
 pub mod shape;
+mod simd;
 pub mod step;
 pub mod timestep;
 pub mod transfer;

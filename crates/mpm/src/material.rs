@@ -100,7 +100,7 @@ impl Material {
 
     /// Advances `f` and `stress` over `dt` under the velocity gradient `l` (∂v_i/∂x_j,
     /// column j of the matrix holds ∂v/∂x_j).
-    #[inline]
+    #[inline(always)]
     pub fn update(&self, l: DMat2, dt: f64, f: &mut DMat2, stress: &mut Stress) {
         // Cayley (midpoint) increment: second order, and exactly orthogonal under pure
         // spin, so a rolling body's volume does not drift.

@@ -7,6 +7,7 @@ use crate::material::{Material, Stress};
 use crate::nodes::{Kin, Node};
 use crate::particles::within_strip;
 use crate::shape::Kernel;
+use crate::simd::multiversion;
 use glam::{DMat2, DVec2};
 
 /// What every transfer needs to place a point on the grid.
@@ -94,10 +95,10 @@ pub struct Source<'a> {
     pub stress: &'a [Stress],
 }
 
+multiversion! {
 /// P2G of mass and momentum, plus (`FORCE`) the internal force −V σ·∇S and (`GRAD`) the
 /// mass gradient Σ m ∇S, for points `range`.
-#[inline(never)]
-pub fn scatter<K: Kernel, const FORCE: bool, const GRAD: bool>(
+pub fn scatter[K: Kernel, const FORCE: bool, const GRAD: bool][K, FORCE, GRAD](
     place: &Place,
     src: Source,
     range: (usize, usize),
@@ -114,11 +115,12 @@ pub fn scatter<K: Kernel, const FORCE: bool, const GRAD: bool>(
         } else {
             (0.0, 0.0, 0.0)
         };
+        let first = view.at(&s, 0, 0);
         for a in 0..K::N {
+            let col = &mut view.nodes[first + a * view.rows..][..K::N];
             for b in 0..K::N {
                 let w = s.wx[a] * s.wy[b];
-                let k = view.at(&s, a, b);
-                let n = &mut view.nodes[k];
+                let n = &mut col[b];
                 n.m += w * m;
                 n.p += w * mv;
                 if FORCE || GRAD {
@@ -136,12 +138,12 @@ pub fn scatter<K: Kernel, const FORCE: bool, const GRAD: bool>(
             }
         }
     }
-}
+}}
 
+multiversion! {
 /// P2G of momentum alone (MUSL's re-map of the updated velocities) at the positions the
 /// step started from.
-#[inline(never)]
-pub fn scatter_momentum<K: Kernel>(
+pub fn scatter_momentum[K: Kernel][K](
     place: &Place,
     src: Source,
     range: (usize, usize),
@@ -150,14 +152,15 @@ pub fn scatter_momentum<K: Kernel>(
     for i in range.0..range.1 {
         let s = place.stencil::<K>(src.pos[i]);
         let mv = src.mass[i] * src.vel[i];
+        let first = view.at(&s, 0, 0);
         for a in 0..K::N {
+            let col = &mut view.nodes[first + a * view.rows..][..K::N];
             for b in 0..K::N {
-                let k = view.at(&s, a, b);
-                view.nodes[k].p += (s.wx[a] * s.wy[b]) * mv;
+                col[b].p += (s.wx[a] * s.wy[b]) * mv;
             }
         }
     }
-}
+}}
 
 /// Velocity gradient Σ v_i ⊗ ∇S_ip from the view's (or patch's) kinematics.
 #[inline(always)]
@@ -169,9 +172,11 @@ fn velocity_gradient<K: Kernel>(
     rows: usize,
 ) -> DMat2 {
     let mut l = DMat2::ZERO;
+    let first = (s.col - col0) * rows + (s.row - row0);
     for a in 0..K::N {
+        let col = &kin[first + a * rows..][..K::N];
         for b in 0..K::N {
-            let v = kin[(s.col + a - col0) * rows + (s.row + b - row0)].v;
+            let v = col[b].v;
             let gx = s.dx[a] * s.wy[b];
             let gy = s.wx[a] * s.dy[b];
             l.x_axis += v * gx;
@@ -195,10 +200,10 @@ pub struct Points<'a> {
     pub next: Option<&'a mut [DVec2]>,
 }
 
+multiversion! {
 /// USF: gathers the strain rate from the interpolated velocities, updates the stress,
 /// then scatters the internal force −V σ·∇S, in one pass over the strip.
-#[inline(never)]
-pub fn stress_and_force<K: Kernel>(
+pub fn stress_and_force[K: Kernel][K](
     place: &Place,
     material: &Material,
     dt: f64,
@@ -213,18 +218,19 @@ pub fn stress_and_force<K: Kernel>(
         let v = vol0[i] * pts.def[i].determinant();
         let st = pts.stress[i];
         let (sxx, syy, sxy) = (st.xx * v, st.yy * v, st.xy * v);
+        let first = view.at(&s, 0, 0);
         for a in 0..K::N {
+            let col = &mut view.nodes[first + a * view.rows..][..K::N];
             for b in 0..K::N {
                 let gx = s.dx[a] * s.wy[b];
                 let gy = s.wx[a] * s.dy[b];
-                let k = view.at(&s, a, b);
-                let n = &mut view.nodes[k];
+                let n = &mut col[b];
                 n.f.x -= sxx * gx + sxy * gy;
                 n.f.y -= sxy * gx + syy * gy;
             }
         }
     }
-}
+}}
 
 /// What a gather saw: the points' bounding box, and whether any point left its strip
 /// (re-sort needed) or the domain / went non-finite (unstable).
@@ -269,16 +275,16 @@ impl Seen {
             self.escaped = true;
             return;
         }
-        let cx = ((x.x - place.lo.x) * place.inv_h) as usize;
+        let cx = ((x.x - place.lo.x) * place.inv_h) as i32 as usize;
         self.drifted |= !within_strip(cx, strip);
     }
 }
 
+multiversion! {
 /// The grid-to-particle update of one strip: FLIP/PIC velocity, position, and (`STRESS`,
 /// USL and USAVG) the stress from the updated grid velocity over `dt.1`.
 #[allow(clippy::too_many_arguments)]
-#[inline(never)]
-pub fn gather<K: Kernel, const STRESS: bool>(
+pub fn gather[K: Kernel, const STRESS: bool][K, STRESS](
     place: &Place,
     hi: DVec2,
     material: &Material,
@@ -297,10 +303,12 @@ pub fn gather<K: Kernel, const STRESS: bool>(
         let mut v = DVec2::ZERO;
         let mut a_sum = DVec2::ZERO;
         let mut l = DMat2::ZERO;
+        let first = (s.col - lo[0]) * rows + (s.row - lo[1]);
         for a in 0..K::N {
+            let col = &kin[first + a * rows..][..K::N];
             for b in 0..K::N {
                 let w = s.wx[a] * s.wy[b];
-                let k = kin[(s.col + a - lo[0]) * rows + (s.row + b - lo[1])];
+                let k = col[b];
                 v += w * k.v;
                 a_sum += w * k.a;
                 if STRESS {
@@ -326,11 +334,12 @@ pub fn gather<K: Kernel, const STRESS: bool>(
         }
     }
     seen
-}
+}}
 
+multiversion! {
 /// MUSL's last pass: the strain rate from the re-mapped velocities at the old positions,
 /// then the positions move on.
-pub fn gather_stress<K: Kernel>(
+pub fn gather_stress[K: Kernel][K](
     place: &Place,
     material: &Material,
     dt: f64,
@@ -348,7 +357,7 @@ pub fn gather_stress<K: Kernel>(
         material.update(l, dt, &mut pts.def[i], &mut pts.stress[i]);
         pts.pos[i] = next[i];
     }
-}
+}}
 
 /// A rigid body's points move with its prescribed velocity.
 pub fn move_rigid(
