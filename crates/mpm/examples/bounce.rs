@@ -50,6 +50,7 @@ fn main() {
             motion: Motion::Free,
         }],
         contact: ContactTable::new(1, ContactLaw::Coulomb { mu: 0.0 }),
+        separation: None,
         walls: [Some(mu); 4],
         gravity: DVec2::ZERO,
         dt: 1.0,

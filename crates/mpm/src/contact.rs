@@ -3,12 +3,14 @@
 //! at that node, wholly in the normal direction when approaching and, tangentially, up to
 //! Coulomb's μ times the normal change. The normal of body b is colinear with the other
 //! bodies' (n_b ∝ g_b − g_rest), so two bodies get equal and opposite corrections and
-//! momentum is conserved. Rigid bodies take the place of the centre of mass. The domain
+//! momentum is conserved. Rigid bodies take the place of the centre of mass, and their
+//! mass gradient gives the normal. The domain
 //! edges are walls with exact normals and the same law.
 
 use crate::grid::{Grid, GHOST};
 use crate::nodes::{GlobalNode, Node, Patch};
 use crate::setup::{ContactLaw, ContactTable};
+use crate::shape::{Bspline2, Gimp, Kernel, Linear, ShapeFunction};
 use glam::DVec2;
 
 /// Which of the two corrections of a step.
@@ -66,6 +68,11 @@ impl Touch {
 }
 
 #[inline]
+fn patch_x(xs: &[DVec2], k: usize) -> DVec2 {
+    xs[k]
+}
+
+#[inline]
 fn apply(n: &mut Node, dp: DVec2, pass: Pass, inv_dt: f64, bit: u32) {
     n.p += dp;
     if pass == Pass::Integrated {
@@ -74,41 +81,102 @@ fn apply(n: &mut Node, dp: DVec2, pass: Pass, inv_dt: f64, bit: u32) {
     n.touched |= bit;
 }
 
-/// Corrects body `b`'s patch against the other bodies summed in `global`.
+/// How far apart touching bodies' material centroids sit at a node, in cells: the largest
+/// separation along the normal between two half-spaces of points that touch, over all
+/// positions of the interface between two nodes. Found by laying out points as the
+/// lattice fill does (`per_cell` per cell) and evaluating the shape function, so it holds
+/// for any kernel and point density.
+pub fn touching_separation(shape: ShapeFunction, per_cell: u32) -> f64 {
+    match shape {
+        ShapeFunction::Linear => touching::<Linear>(per_cell),
+        ShapeFunction::Gimp => touching::<Gimp>(per_cell),
+        ShapeFunction::Bspline2 => touching::<Bspline2>(per_cell),
+    }
+}
+
+fn touching<K: Kernel>(per_cell: u32) -> f64 {
+    let pitch = 1.0 / per_cell as f64;
+    let lp = 0.5 * pitch;
+    // Mass and first moment at node `node` of points x0 + (k + ½)·dir·pitch, k ≥ 0.
+    let moments = |x0: f64, dir: f64, node: i64| {
+        let (mut m, mut mx) = (0.0, 0.0);
+        for k in 0..(8 * per_cell) {
+            let x = x0 + dir * (k as f64 + 0.5) * pitch;
+            let a = K::axis(x + 8.0, lp);
+            for (j, w) in a.w.iter().enumerate() {
+                if a.base as i64 + j as i64 - 8 == node {
+                    m += w;
+                    mx += w * x;
+                }
+            }
+        }
+        (m, mx)
+    };
+    let mut body = 0.0f64;
+    for step in 0..64 {
+        let o = step as f64 / 64.0;
+        // Interface at x = o between nodes 0 and 1; the nearer node decides.
+        let node = if o < 0.5 { 0 } else { 1 };
+        let (mb, xb) = moments(o, -1.0, node);
+        let (mr, xr) = moments(o, 1.0, node);
+        if mb > 0.0 && mr > 0.0 {
+            body = body.max(xr / mr - xb / mb);
+        }
+    }
+    body
+}
+
+/// Corrects body `b`'s patch against the other bodies summed in `global`. With
+/// `separation`, nodes where the two sides' material centroids are farther apart than
+/// that along the normal are left alone (the bodies are near, not touching).
+#[allow(clippy::too_many_arguments)]
 pub fn bodies(
     b: u16,
     patch: &mut Patch,
     global: &[GlobalNode],
     global_rows: usize,
     table: &ContactTable,
+    separation: Option<f64>,
     pass: Pass,
     dt: f64,
 ) -> Touch {
     let mut touch = Touch::default();
     let rows = patch.size[1];
     let inv_dt = 1.0 / dt;
+    let keep = !patch.xs.is_empty();
     for (c, col) in patch.nodes.chunks_mut(rows).enumerate() {
         let gcol = &global[(patch.lo[0] + c) * global_rows + patch.lo[1]..][..rows];
-        for (n, g) in col.iter_mut().zip(gcol) {
+        for (r, (n, g)) in col.iter_mut().zip(gcol).enumerate() {
             if g.count < 2 || n.m <= 0.0 {
                 continue;
             }
-            let target = if g.m_rigid > 0.0 {
-                g.p_rigid * (n.m / g.m_rigid)
+            // A rigid body is the master surface: its own normal is used, because a
+            // deformable body's corner (where its gradient tilts) would otherwise plough
+            // into a flat rigid surface it slides on.
+            let (target, normal) = if g.m_rigid > 0.0 {
+                (g.p_rigid * (n.m / g.m_rigid), -g.g_rigid)
             } else {
-                g.p * (n.m / g.m)
+                (g.p * (n.m / g.m), 2.0 * n.g - g.g)
             };
-            let normal = 2.0 * n.g - g.g;
             let len = normal.length();
             if len == 0.0 || !len.is_finite() {
                 continue;
             }
+            let normal = normal / len;
             let partner = g.partner(b);
-            if let Some(dp) = coulomb(
-                target - n.p,
-                normal / len,
-                table.get(b as usize, partner as usize),
-            ) {
+            let law = table.get(b as usize, partner as usize);
+            if let (Some(cut), true, ContactLaw::Coulomb { .. }) = (separation, keep, law) {
+                let mine = patch_x(&patch.xs, c * rows + r) / n.m;
+                let theirs = if g.m_rigid > 0.0 {
+                    g.x_rigid / g.m_rigid
+                } else {
+                    (g.x - patch_x(&patch.xs, c * rows + r)) / (g.m - n.m)
+                };
+                if (theirs - mine).dot(normal) > cut {
+                    continue;
+                }
+            }
+            if let Some(dp) = coulomb(target - n.p, normal, law) {
                 apply(n, dp, pass, inv_dt, 1);
                 touch.body_nodes += 1;
                 touch.partner = Some(partner);
@@ -126,7 +194,9 @@ const NORMALS: [DVec2; 4] = [
     DVec2::new(0.0, 1.0),
 ];
 
-/// Corrects a patch against the domain walls: every node on or beyond a walled edge.
+/// Corrects a patch against the domain walls: every node on or beyond a walled edge
+/// A wall needs no separation test: its node line is the wall, and approach alone is the
+/// paper's criterion with exact normals.
 pub fn walls(
     patch: &mut Patch,
     grid: &Grid,
@@ -153,7 +223,8 @@ pub fn walls(
         let normal = NORMALS[side];
         for col in cols {
             for row in rws.clone() {
-                let n = &mut patch.nodes[(col - c0) * rows + (row - r0)];
+                let k = (col - c0) * rows + (row - r0);
+                let n = &mut patch.nodes[k];
                 if n.m <= 0.0 {
                     continue;
                 }
@@ -198,6 +269,18 @@ mod tests {
     }
 
     #[test]
+    fn touching_separations() {
+        // uGIMP, 2 × 2 points per cell: 0.75–0.86 h (Nairn's cut-off for this case is
+        // ≈ 0.8 h).
+        let b = touching_separation(ShapeFunction::Gimp, 2);
+        assert!((0.8..0.9).contains(&b), "{b}");
+        for s in [ShapeFunction::Linear, ShapeFunction::Bspline2] {
+            let b = touching_separation(s, 2);
+            assert!(b > 0.5 && b < 1.5, "{s:?}: {b}");
+        }
+    }
+
+    #[test]
     fn wall_stops_approach_with_friction() {
         let grid = Grid {
             lo: DVec2::ZERO,
@@ -205,7 +288,7 @@ mod tests {
             cells: [4, 4],
         };
         let mut patch = Patch::default();
-        patch.reset([0, 0], [3, 3]);
+        patch.reset([0, 0], [3, 3], false);
         for n in &mut patch.nodes {
             n.m = 2.0;
             n.p = DVec2::new(-1.0, 0.4);

@@ -46,11 +46,14 @@ pub struct Patch {
     pub nodes: Vec<Node>,
     /// Kinematics, same indexing.
     pub kin: Vec<Kin>,
+    /// Σ S m x: with the mass, where the body's material near the node is centred (only
+    /// kept when contact uses the separation test; empty otherwise).
+    pub xs: Vec<DVec2>,
 }
 
 impl Patch {
     /// Re-shapes the patch to cover stored nodes `[lo, hi)` and zeroes it.
-    pub fn reset(&mut self, lo: [usize; 2], hi: [usize; 2]) {
+    pub fn reset(&mut self, lo: [usize; 2], hi: [usize; 2], positions: bool) {
         self.lo = lo;
         self.size = [hi[0] - lo[0], hi[1] - lo[1]];
         let n = self.size[0] * self.size[1];
@@ -58,6 +61,10 @@ impl Patch {
         self.nodes.resize(n, Node::default());
         self.kin.clear();
         self.kin.resize(n, Kin::default());
+        self.xs.clear();
+        if positions {
+            self.xs.resize(n, DVec2::ZERO);
+        }
     }
 
     /// Stored (column, row) of local index `k`.
@@ -85,6 +92,12 @@ pub struct GlobalNode {
     pub m_rigid: f64,
     /// Momentum of rigid bodies.
     pub p_rigid: DVec2,
+    /// Mass gradient of rigid bodies.
+    pub g_rigid: DVec2,
+    /// Σ S m x of all bodies (when positions are kept).
+    pub x: DVec2,
+    /// Σ S m x of rigid bodies.
+    pub x_rigid: DVec2,
     /// Bodies with mass here.
     pub count: u32,
     /// Heaviest body here, and the second heaviest.
@@ -146,10 +159,12 @@ impl Global {
                 for (b, patch) in patches.iter().enumerate() {
                     let (p0, p1) = patch.columns();
                     let (a, z) = (c0.max(p0), c1.min(p1));
+                    let keep = !patch.xs.is_empty();
                     for col in a..z {
-                        let src = &patch.nodes[(col - p0) * patch.size[1]..][..patch.size[1]];
+                        let at = (col - p0) * patch.size[1];
+                        let src = &patch.nodes[at..][..patch.size[1]];
                         let dst = &mut chunk[(col - c0) * rows + patch.lo[1]..][..patch.size[1]];
-                        for (g, n) in dst.iter_mut().zip(src) {
+                        for (r, (g, n)) in dst.iter_mut().zip(src).enumerate() {
                             if n.m <= 0.0 {
                                 continue;
                             }
@@ -163,9 +178,13 @@ impl Global {
                             g.p += n.p;
                             g.g += n.g;
                             g.count += 1;
+                            let x = if keep { patch.xs[at + r] } else { DVec2::ZERO };
+                            g.x += x;
                             if rigid[b] {
                                 g.m_rigid += n.m;
                                 g.p_rigid += n.p;
+                                g.g_rigid += n.g;
+                                g.x_rigid += x;
                             }
                             let b = b as u16;
                             if g.count == 1 || n.m > g.top_m[0] {
@@ -200,9 +219,9 @@ mod tests {
             cells: [40, 3],
         };
         let mut patches = vec![Patch::default(), Patch::default(), Patch::default()];
-        patches[0].reset([2, 1], [20, 4]);
-        patches[1].reset([18, 0], [30, 3]);
-        patches[2].reset([19, 1], [21, 2]);
+        patches[0].reset([2, 1], [20, 4], false);
+        patches[1].reset([18, 0], [30, 3], false);
+        patches[2].reset([19, 1], [21, 2], false);
         for (b, p) in patches.iter_mut().enumerate() {
             for n in &mut p.nodes {
                 n.m = 1.0 + b as f64;

@@ -130,6 +130,11 @@ pub struct Setup {
     pub bodies: Vec<Body>,
     /// Contact law per pair of bodies.
     pub contact: ContactTable,
+    /// Separation test between bodies (Nairn's position method): a node's fields are
+    /// only corrected where the bodies' material centroids there are at most this far
+    /// apart along the normal (m); `None`: approach alone decides.
+    /// See [`crate::contact::touching_separation`].
+    pub separation: Option<f64>,
     /// Domain edges that are rigid walls, with their friction μ (`None`: open edge;
     /// a particle that leaves the grid stops the run). Order: left, right, bottom, top.
     pub walls: [Option<f64>; 4],

@@ -133,13 +133,15 @@ fn prepare(setup: &Setup, p: &mut Particles, w: &mut Solver) {
     }
     let grid = &setup.grid;
     let stored = grid.stored();
+    let keep = setup.separation.is_some() && setup.multi_body();
     w.patches
         .par_iter_mut()
         .zip(&w.bounds)
         .for_each(|(patch, &(lo, hi))| {
             let (a, z) = (grid.cell_of(lo), grid.cell_of(hi));
             // Cells [a, z] reach stored nodes [a, z + 3] (3-node stencil, one ghost).
-            patch.reset(a, [(z[0] + 4).min(stored[0]), (z[1] + 4).min(stored[1])]);
+            let hi = [(z[0] + 4).min(stored[0]), (z[1] + 4).min(stored[1])];
+            patch.reset(a, hi, keep);
         });
 }
 
@@ -158,6 +160,8 @@ fn views<'a>(patches: &'a mut [Patch], layout: &Layout, colour: u32) -> Vec<(usi
         let (p0, p1) = patch.columns();
         let mut nodes: &mut [Node] = &mut patch.nodes;
         let mut kin: &mut [Kin] = &mut patch.kin;
+        let keep = !patch.xs.is_empty();
+        let mut xs: &mut [DVec2] = &mut patch.xs;
         let mut cur = p0;
         while let Some(&(k, &(sb, strip, _, _))) = strips.peek() {
             if sb as usize != b {
@@ -172,6 +176,14 @@ fn views<'a>(patches: &'a mut [Patch], layout: &Layout, colour: u32) -> Vec<(usi
             let (_, krest) = std::mem::take(&mut kin).split_at_mut((a - cur) * rows);
             let (kmine, krest) = krest.split_at_mut((z - a) * rows);
             kin = krest;
+            let xmine = if keep {
+                let (_, xrest) = std::mem::take(&mut xs).split_at_mut((a - cur) * rows);
+                let (xmine, xrest) = xrest.split_at_mut((z - a) * rows);
+                xs = xrest;
+                xmine
+            } else {
+                &mut []
+            };
             cur = z;
             out.push((
                 k,
@@ -181,6 +193,7 @@ fn views<'a>(patches: &'a mut [Patch], layout: &Layout, colour: u32) -> Vec<(usi
                     rows,
                     nodes: mine,
                     kin: kmine,
+                    xs: xmine,
                 },
             ));
         }
@@ -255,6 +268,7 @@ fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool) -> Ve
                     &g.nodes,
                     g.dims[1],
                     &setup.contact,
+                    setup.separation,
                     pass,
                     setup.dt,
                 ),

@@ -69,6 +69,8 @@ pub struct View<'a> {
     pub nodes: &'a mut [Node],
     /// Kinematics.
     pub kin: &'a mut [Kin],
+    /// Σ S m x, or empty when positions are not kept.
+    pub xs: &'a mut [DVec2],
 }
 
 impl View<'_> {
@@ -97,7 +99,7 @@ pub struct Source<'a> {
 
 multiversion! {
 /// P2G of mass and momentum, plus (`FORCE`) the internal force −V σ·∇S and (`GRAD`) the
-/// mass gradient Σ m ∇S, for points `range`.
+/// contact geometry: mass gradient Σ m ∇S and, if kept, Σ S m x, for points `range`.
 pub fn scatter[K: Kernel, const FORCE: bool, const GRAD: bool][K, FORCE, GRAD](
     place: &Place,
     src: Source,
@@ -105,7 +107,8 @@ pub fn scatter[K: Kernel, const FORCE: bool, const GRAD: bool][K, FORCE, GRAD](
     view: &mut View,
 ) {
     for i in range.0..range.1 {
-        let s = place.stencil::<K>(src.pos[i]);
+        let x = src.pos[i];
+        let s = place.stencil::<K>(x);
         let m = src.mass[i];
         let mv = m * src.vel[i];
         let (sxx, syy, sxy) = if FORCE {
@@ -134,6 +137,9 @@ pub fn scatter[K: Kernel, const FORCE: bool, const GRAD: bool][K, FORCE, GRAD](
                         n.g.x += m * gx;
                         n.g.y += m * gy;
                     }
+                }
+                if GRAD && !view.xs.is_empty() {
+                    view.xs[first + a * view.rows + b] += (w * m) * x;
                 }
             }
         }

@@ -273,6 +273,13 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, SetupError> {
     if !(s.run.safety > 0.0 && s.run.safety <= 1.0) {
         return Err(err("run.safety", s.run.safety, "must be in (0, 1]"));
     }
+    let f = s.contact.separation_factor;
+    if !(f.is_finite() && (0.5..=4.0).contains(&f)) {
+        return Err(err("contact.separation_factor", f, "must be in [0.5, 4]"));
+    }
+    let separation = s.contact.separation_test.then(|| {
+        grains_mpm::contact::touching_separation(shape, g.particles_per_cell) * f * g.cell_size
+    });
     let mut setup = Setup {
         grid,
         shape,
@@ -283,6 +290,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, SetupError> {
         materials: s.materials.clone(),
         bodies,
         contact,
+        separation,
         walls,
         gravity: DVec2::from(s.gravity),
         dt: 1.0,

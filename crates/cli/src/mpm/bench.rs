@@ -96,6 +96,7 @@ pub fn setup(o: &Options) -> Result<(Setup, Particles), String> {
         materials: vec![material],
         bodies,
         contact: ContactTable::new(o.bodies, ContactLaw::Coulomb { mu: 0.3 }),
+        separation: None,
         walls: [Some(0.0); 4],
         gravity: DVec2::new(0.0, -9.8),
         dt: 2e-4 * 128.0 / o.grid as f64,

@@ -171,9 +171,22 @@ pub struct ContactSpec {
     /// Friction coefficient of the default Coulomb law.
     #[serde(default)]
     pub mu: Option<f64>,
+    /// Correct only where two bodies touch, judged from where their material sits at
+    /// each node (Nairn's position method), instead of wherever their grid supports
+    /// overlap. (Walls always use approach with their exact normals.)
+    #[serde(default = "default_true")]
+    pub separation_test: bool,
+    /// With the separation test: contact once the centroid separation is below this
+    /// multiple of its value for touching bodies.
+    #[serde(default = "default_separation_factor")]
+    pub separation_factor: f64,
     /// Overrides.
     #[serde(default)]
     pub pair: Vec<PairSpec>,
+}
+
+fn default_separation_factor() -> f64 {
+    1.05
 }
 
 fn default_law() -> LawName {
@@ -185,6 +198,8 @@ impl Default for ContactSpec {
         ContactSpec {
             law: LawName::Coulomb,
             mu: None,
+            separation_test: true,
+            separation_factor: default_separation_factor(),
             pair: Vec::new(),
         }
     }
