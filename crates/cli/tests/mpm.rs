@@ -1,0 +1,323 @@
+//! The MPM front end end to end: bad input is refused with one line naming key, value
+//! and what is allowed (exit 1, nothing written); a short bounce writes every output and
+//! its checks; `grains check` and `grains bench mpm` answer.
+
+use std::path::Path;
+use std::process::Command;
+
+const BASE: &str = r#"
+engine = "mpm"
+name = "small"
+
+[grid]
+lo = [0.0, 0.0]
+hi = [3.0, 3.0]
+cell_size = 0.125
+particles_per_cell = 2
+
+[method]
+shape = "gimp"
+update = "usavg"
+
+[walls]
+top = { mu = 0.1 }
+right = { mu = 0.1 }
+
+[[material]]
+name = "elastic"
+model = "linear_elastic"
+density = 1.0
+bulk = 1.0
+shear = 0.5
+
+[[body]]
+name = "cylinder"
+material = "elastic"
+geometry = { shape = "disk", centre = [1.0, 1.5], radius = 0.5 }
+velocity = [0.1, 0.1]
+
+[run]
+duration = 14.0
+
+[output]
+frames = 5
+history = 700
+
+[[check]]
+kind = "initial_energy"
+name = "initial_energy"
+tolerance = 0.005
+
+[[check]]
+kind = "impact_tangential_velocity"
+name = "tangential_velocity_after_first_impact"
+body = "cylinder"
+impact = 1
+tolerance = 0.10
+
+[[check]]
+kind = "impact_spin"
+name = "spin_after_first_impact"
+body = "cylinder"
+impact = 1
+tolerance = 0.15
+"#;
+
+fn grains(args: &[&str]) -> (i32, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_grains"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).to_string(),
+        String::from_utf8_lossy(&o.stderr).to_string(),
+    )
+}
+
+/// Runs `grains run` on `text`; returns (exit code, stderr, output directory).
+fn run(text: &str) -> (i32, String, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("s.toml");
+    std::fs::write(&file, text).unwrap();
+    let out = dir.path().join("out");
+    let (code, _, err) = grains(&[
+        "run",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    (code, err, dir)
+}
+
+fn refused(text: &str, must_contain: &[&str]) {
+    let (code, err, dir) = run(text);
+    assert_eq!(code, 1, "exit code; stderr: {err}");
+    assert!(
+        !dir.path().join("out").exists(),
+        "an output directory was written"
+    );
+    let line = err
+        .lines()
+        .find(|l| l.contains("error"))
+        .unwrap_or_default();
+    for s in must_contain {
+        assert!(line.contains(s), "error line {line:?} lacks {s:?}");
+    }
+    assert_eq!(
+        err.lines().filter(|l| l.contains("error")).count(),
+        1,
+        "{err}"
+    );
+}
+
+#[test]
+fn a_short_bounce_writes_everything_and_passes_its_checks() {
+    let (code, err, dir) = run(BASE);
+    assert_eq!(code, 0, "{err}");
+    let out = dir.path().join("out");
+    for f in [
+        "scenario.toml",
+        "history.csv",
+        "summary.json",
+        "frames/series.pvd",
+        "frames/points_00000.vtp",
+        "frames/grid_00000.vtu",
+        "plots/energies.png",
+        "plots/momenta.png",
+        "plots/impact_cylinder_1.png",
+        "plots/cylinder_motion.png",
+    ] {
+        assert!(out.join(f).exists(), "{f} missing");
+    }
+    let head = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let cols = head.lines().next().unwrap();
+    for c in [
+        "kinetic",
+        "strain",
+        "total",
+        "momentum_x",
+        "cylinder_omega",
+        "cylinder_rotation",
+        "cylinder_touch_wall",
+        "cylinder_touch_body",
+    ] {
+        assert!(
+            cols.split(',').any(|x| x == c),
+            "column {c} missing in {cols}"
+        );
+    }
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let checks = s["checks"].as_array().unwrap();
+    assert_eq!(checks.len(), 3);
+    assert!(checks.iter().all(|c| c["pass"] == true), "{checks:?}");
+    assert_eq!(s["figures"]["cylinder_impacts"][0]["walls"][0], "top");
+    let vtp = std::fs::read(out.join("frames/points_00000.vtp")).unwrap();
+    let text = String::from_utf8_lossy(&vtp);
+    for a in [
+        "\"stress\"",
+        "\"pressure\"",
+        "\"principal_stress_difference\"",
+        "\"body\"",
+        "\"velocity\"",
+    ] {
+        assert!(text.contains(a), "{a} missing from the VTP");
+    }
+}
+
+#[test]
+fn check_prints_the_stable_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("s.toml");
+    std::fs::write(&file, BASE).unwrap();
+    let (code, out, err) = grains(&["check", file.to_str().unwrap(), "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let crit = v["dt_critical"].as_f64().unwrap();
+    // h / (c + |v|) with c = √((K + 4G/3)/ρ) = 1.2910 and |v| = 0.1414.
+    assert!(
+        (crit - 0.125 / (1.290994 + 0.141421)).abs() < 1e-5,
+        "{crit}"
+    );
+    assert_eq!(v["particles"], 208);
+}
+
+#[test]
+fn bench_prints_particle_steps_last() {
+    let (code, out, err) = grains(&[
+        "bench",
+        "mpm",
+        "--particles",
+        "2000",
+        "--grid",
+        "32",
+        "--steps",
+        "5",
+        "--threads",
+        "1",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.trim_end()
+            .lines()
+            .last()
+            .unwrap()
+            .starts_with("particle-steps/s: "),
+        "{out}"
+    );
+    let (code, _, err) = grains(&[
+        "bench",
+        "mpm",
+        "--particles",
+        "2000",
+        "--grid",
+        "32",
+        "--steps",
+        "5",
+        "--shape",
+        "cubic",
+    ]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--shape = cubic"), "{err}");
+}
+
+#[test]
+fn body_without_points() {
+    refused(
+        &BASE.replace("radius = 0.5 }", "radius = 0.01 }"),
+        &["body[0].geometry", "holds no material point"],
+    );
+}
+
+#[test]
+fn point_outside_the_grid() {
+    refused(
+        &BASE.replace("centre = [1.0, 1.5]", "centre = [2.8, 1.5]"),
+        &["body[0].geometry", "point at", "inside the grid"],
+    );
+}
+
+#[test]
+fn non_positive_moduli_and_density() {
+    refused(
+        &BASE.replace("bulk = 1.0", "bulk = 0.0"),
+        &["material[0].bulk = 0", "> 0"],
+    );
+    refused(
+        &BASE.replace("shear = 0.5", "shear = -0.5"),
+        &["material[0].shear = -0.5", "> 0"],
+    );
+    refused(
+        &BASE.replace("density = 1.0", "density = 0.0"),
+        &["material[0].density = 0", "> 0"],
+    );
+}
+
+#[test]
+fn time_step_above_the_limit() {
+    refused(
+        &BASE.replace("duration = 14.0", "duration = 14.0\ndt = 0.1"),
+        &["run.dt = 0.1", "above the stable limit"],
+    );
+}
+
+#[test]
+fn unknown_shape_function_and_update_scheme() {
+    refused(
+        &BASE.replace("shape = \"gimp\"", "shape = \"cpdi\""),
+        &[
+            "method.shape = \"cpdi\"",
+            "unknown shape function",
+            "\"gimp\"",
+        ],
+    );
+    refused(
+        &BASE.replace("update = \"usavg\"", "update = \"usx\""),
+        &[
+            "method.update = \"usx\"",
+            "unknown update scheme",
+            "\"musl\"",
+        ],
+    );
+}
+
+#[test]
+fn other_mistakes() {
+    refused(
+        &BASE.replace("engine = \"mpm\"", "engine = \"fem\""),
+        &["engine", "\"fem\""],
+    );
+    refused(
+        &BASE.replace("cell_size = 0.125", "cell_size = 0.7"),
+        &["grid.cell_size = 0.7", "whole number"],
+    );
+    refused(
+        &BASE.replace("material = \"elastic\"", "material = \"steel\""),
+        &["body[0].material = \"steel\"", "must be one of"],
+    );
+    refused(
+        &BASE.replace("top = { mu = 0.1 }", "top = { mu = -0.1 }"),
+        &["walls.top.mu = -0.1"],
+    );
+    refused(
+        &BASE.replace("particles_per_cell = 2", "particles_per_cell = 0"),
+        &["grid.particles_per_cell = 0"],
+    );
+    refused(
+        &BASE.replace("shear = 0.5", "shear = 0.5\nyoung = 1.0"),
+        &["young"],
+    );
+    refused(
+        &BASE.replace(
+            "impact = 1\ntolerance = 0.15",
+            "impact = 0\ntolerance = 0.15",
+        ),
+        &["check[2].impact = 0"],
+    );
+    let (code, _, _) = {
+        let p = Path::new("/nonexistent/x.toml");
+        grains(&["run", p.to_str().unwrap()])
+    };
+    assert_eq!(code, 1);
+}
