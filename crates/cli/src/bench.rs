@@ -43,11 +43,11 @@ pub enum BenchCommand {
         /// 1: one block; 2: two stacked blocks in frictional contact.
         #[arg(long, default_value_t = 1)]
         bodies: usize,
-        /// Shape function: linear, gimp or bspline2.
-        #[arg(long, default_value = "gimp")]
+        /// Shape function: linear, gimp or bspline2 (default: the peer's quadratic B-spline).
+        #[arg(long, default_value = "bspline2")]
         shape: String,
-        /// Stress update: usf, usl, usavg or musl.
-        #[arg(long, default_value = "usavg")]
+        /// Stress update: usf, usl, usavg or musl (default: USL, two passes like the peer).
+        #[arg(long, default_value = "usl")]
         update: String,
     },
 }
