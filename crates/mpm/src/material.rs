@@ -144,7 +144,8 @@ impl Material {
             Material::NeoHookean { bulk, shear, .. } => {
                 let j = f.determinant();
                 let b = f * f.transpose();
-                let tr = (b.x_axis.x + b.y_axis.y + 1.0) * j.powf(-2.0 / 3.0);
+                let c = j.cbrt();
+                let tr = (b.x_axis.x + b.y_axis.y + 1.0) / (c * c);
                 vol0 * (0.5 * bulk * (0.5 * (j * j - 1.0) - j.ln()) + 0.5 * shear * (tr - 3.0))
             }
         }
@@ -155,7 +156,9 @@ impl Material {
 pub fn neo_hookean_stress(f: DMat2, bulk: f64, shear: f64) -> Stress {
     let j = f.determinant();
     let b = f * f.transpose();
-    let scale = j.powf(-2.0 / 3.0);
+    // J^(-2/3) through cbrt: pow is several times slower and this runs per point.
+    let c = j.cbrt();
+    let scale = 1.0 / (c * c);
     let (bxx, byy, bxy, bzz) = (
         scale * b.x_axis.x,
         scale * b.y_axis.y,

@@ -130,6 +130,13 @@ impl Record {
             .collect()
     }
 
+    /// Mean |Σ m v| over the free flight after impact `k` of body 0's record, NaN if none.
+    pub fn momentum_after(&self, k: usize) -> f64 {
+        (0..self.impacts.len())
+            .find_map(|b| self.window(b, k).filter(|w| !w.is_empty()))
+            .map_or(f64::NAN, |w| Self::mean(&w, |s| s.momentum.length()))
+    }
+
     /// Energy lost by the end of impact `k` as a fraction of the initial energy, from
     /// the mean over the free flight that follows.
     pub fn energy_loss(&self, b: usize, k: usize) -> f64 {

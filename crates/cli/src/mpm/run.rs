@@ -218,58 +218,63 @@ fn simulate(
     let mut progress = sink.is_some().then(|| Progress::new(asm.steps));
     let started = Instant::now();
     let mut unstable = None;
-    while state.step < asm.steps {
-        if let Err(e) = step(setup, &mut state, &mut solver) {
-            unstable = Some(format!(
-                "step {} (t = {:.6e} s): {e}",
-                state.step, state.time
-            ));
-            break;
-        }
-        rec.step(state.step, state.time, state.touch.iter().map(|t| t.walls));
-        if state.step.is_multiple_of(every) || state.step == asm.steps {
-            let d = measure(setup, &state.particles, &solver.layout().bodies);
-            if let Some(why) = instability(setup, &d) {
+    // The loop runs on a pool worker, so each stage's parallel passes start without
+    // waking the pool from outside.
+    rayon::scope(|_| -> anyhow::Result<()> {
+        while state.step < asm.steps {
+            if let Err(e) = step(setup, &mut state, &mut solver) {
                 unstable = Some(format!(
-                    "step {} (t = {:.6e} s): {why}",
+                    "step {} (t = {:.6e} s): {e}",
                     state.step, state.time
                 ));
                 break;
             }
-            let smp = sample(&d, state.time, rec.samples.last());
-            if let Some(k) = sink.as_deref_mut() {
-                k.history.push(&row(&state, &d, &smp))?;
-                for b in 0..setup.bodies.len() {
-                    if !rec.in_impact(b) {
-                        continue;
-                    }
-                    let file = format!(
-                        "impact_{}_{}.png",
-                        setup.bodies[b].name,
-                        rec.impacts[b].len()
-                    );
-                    let strain = d.bodies[b].strain;
-                    match k.snapshots.iter_mut().find(|(f, _)| *f == file) {
-                        Some((_, snap)) if snap.strain >= strain => {}
-                        Some((_, snap)) => *snap = snapshot(&state, state.time, strain),
-                        None => k
-                            .snapshots
-                            .push((file, snapshot(&state, state.time, strain))),
+            rec.step(state.step, state.time, state.touch.iter().map(|t| t.walls));
+            if state.step.is_multiple_of(every) || state.step == asm.steps {
+                let d = measure(setup, &state.particles, &solver.layout().bodies);
+                if let Some(why) = instability(setup, &d) {
+                    unstable = Some(format!(
+                        "step {} (t = {:.6e} s): {why}",
+                        state.step, state.time
+                    ));
+                    break;
+                }
+                let smp = sample(&d, state.time, rec.samples.last());
+                if let Some(k) = sink.as_deref_mut() {
+                    k.history.push(&row(&state, &d, &smp))?;
+                    for b in 0..setup.bodies.len() {
+                        if !rec.in_impact(b) {
+                            continue;
+                        }
+                        let file = format!(
+                            "impact_{}_{}.png",
+                            setup.bodies[b].name,
+                            rec.impacts[b].len()
+                        );
+                        let strain = d.bodies[b].strain;
+                        match k.snapshots.iter_mut().find(|(f, _)| *f == file) {
+                            Some((_, snap)) if snap.strain >= strain => {}
+                            Some((_, snap)) => *snap = snapshot(&state, state.time, strain),
+                            None => k
+                                .snapshots
+                                .push((file, snapshot(&state, state.time, strain))),
+                        }
                     }
                 }
+                rec.samples.push(smp);
             }
-            rec.samples.push(smp);
-        }
-        if let Some(k) = sink.as_deref_mut() {
-            if state.step.is_multiple_of(k.frame_every) {
-                k.frames.write(setup, &state, &solver)?;
-                k.last_frame = state.step;
+            if let Some(k) = sink.as_deref_mut() {
+                if state.step.is_multiple_of(k.frame_every) {
+                    k.frames.write(setup, &state, &solver)?;
+                    k.last_frame = state.step;
+                }
+            }
+            if let Some(p) = progress.as_mut() {
+                p.tick(state.step);
             }
         }
-        if let Some(p) = progress.as_mut() {
-            p.tick(state.step);
-        }
-    }
+        Ok(())
+    })?;
     let seconds = started.elapsed().as_secs_f64();
     if let Some(p) = progress {
         p.finish();
@@ -395,6 +400,7 @@ pub fn run(
                     "start": i.start,
                     "end": i.end,
                     "energy_loss_after": rec.energy_loss(b, k + 1),
+                    "momentum_after": rec.momentum_after(k + 1),
                 })
             })
             .collect();
