@@ -16,9 +16,12 @@ use std::time::Instant;
 pub enum BenchCommand {
     /// The DEM engine on a bed of disks.
     Dem {
-        /// Number of disks in the bed.
+        /// Number of disks in a bed grains builds itself (ignored with --lammps-data).
         #[arg(long, default_value_t = 20_000)]
         particles: usize,
+        /// Start from this LAMMPS data file (atom_style sphere), as the peer benchmark does.
+        #[arg(long)]
+        lammps_data: Option<std::path::PathBuf>,
         /// Timed steps.
         #[arg(long, default_value_t = 2000)]
         steps: u64,
@@ -33,22 +36,32 @@ pub fn cmd_bench(what: BenchCommand) -> ExitCode {
     match what {
         BenchCommand::Dem {
             particles,
+            lammps_data,
             steps,
             threads,
         } => {
-            if particles == 0 {
-                return fail(1, "--particles = 0: must be at least 1");
-            }
             let threads = match set_threads(threads) {
                 Ok(t) => t,
                 Err(e) => return fail(1, &e),
             };
-            let (setup, p) = peer_bed(particles);
+            let (setup, p) = match &lammps_data {
+                Some(path) => match lammps_bed(path) {
+                    Ok(v) => v,
+                    Err(e) => return fail(1, &e),
+                },
+                None if particles == 0 => return fail(1, "--particles = 0: must be at least 1"),
+                None => peer_bed(particles),
+            };
+            let particles = p.len();
             let mut state = State::new(&setup, p);
             let t0 = Instant::now();
-            for _ in 0..steps {
-                step(&setup, &mut state);
-            }
+            // Step from inside the pool: parallel passes then start on a worker thread
+            // instead of waking the pool from outside three times a step.
+            rayon::scope(|_| {
+                for _ in 0..steps {
+                    step(&setup, &mut state);
+                }
+            });
             let secs = t0.elapsed().as_secs_f64();
             let rate = particles as f64 * steps as f64 / secs;
             println!("particles: {particles}");
@@ -56,6 +69,12 @@ pub fn cmd_bench(what: BenchCommand) -> ExitCode {
             println!("threads: {threads}");
             println!("wall time: {secs:.3} s");
             println!("neighbour builds: {}", state.contacts.builds);
+            let d = grains_dem::diagnostics::measure(&setup, &state);
+            println!(
+                "list entries per particle: {:.3}, contacts per particle: {:.3}",
+                state.contacts.len() as f64 / particles as f64,
+                d.mean_coordination(particles)
+            );
             println!("state-hash: {:016x}", state_hash(&state));
             println!("particle-steps/s: {rate:.4e}");
             ExitCode::SUCCESS
@@ -63,11 +82,8 @@ pub fn cmd_bench(what: BenchCommand) -> ExitCode {
     }
 }
 
-/// A bed of `n` disks (d uniform in [0.88, 0.98)) on a square lattice of pitch 1 over a
-/// floor, about 2.3 times wider than high, with the peer benchmark's contact law.
-pub fn peer_bed(n: usize) -> (Setup, Particles) {
-    let nx = ((2.27 * n as f64).sqrt().ceil() as usize).max(4);
-    let ny = n.div_ceil(nx);
+/// The peer benchmark's physics in a box `lo..hi`, periodic in x, floor at y = 0.
+fn peer_setup(lo: DVec2, hi: DVec2) -> Setup {
     let material = Material {
         name: "bench".into(),
         density: 1.0,
@@ -75,7 +91,8 @@ pub fn peer_bed(n: usize) -> (Setup, Particles) {
         poisson: None,
         restitution: None,
         friction: None,
-        inertia_factor: 0.5,
+        // LAMMPS `fix nve/sphere` (no `disc` keyword) integrates rotation with I = 0.4 m r².
+        inertia_factor: 0.4,
     };
     let model = ContactModel::HookeHistory {
         kn: 4000.0,
@@ -86,8 +103,8 @@ pub fn peer_bed(n: usize) -> (Setup, Particles) {
         limit_damping: false,
     };
     let domain = Domain {
-        lo: DVec2::new(0.0, 0.0),
-        hi: DVec2::new(nx as f64, ny as f64 + 2.0),
+        lo,
+        hi,
         periodic: [true, false],
     };
     let floor = Wall {
@@ -98,7 +115,7 @@ pub fn peer_bed(n: usize) -> (Setup, Particles) {
         },
         material: None,
     };
-    let setup = Setup::new(
+    Setup::new(
         domain,
         vec![material],
         model,
@@ -107,15 +124,44 @@ pub fn peer_bed(n: usize) -> (Setup, Particles) {
         5e-4,
         0.1,
     )
-    .expect("the benchmark set-up is valid");
+    .expect("the benchmark set-up is valid")
+}
+
+/// A bed of `n` disks (d uniform in [0.88, 0.98)) on a square lattice of pitch 1 over a
+/// floor, about 2.3 times wider than high, with the peer benchmark's contact law.
+pub fn peer_bed(n: usize) -> (Setup, Particles) {
+    let nx = ((2.27 * n as f64).sqrt().ceil() as usize).max(4);
+    let ny = n.div_ceil(nx);
+    let setup = peer_setup(DVec2::ZERO, DVec2::new(nx as f64, ny as f64 + 2.0));
     let mut rng = rng::seeded(4711);
     let mut p = Particles::default();
     for k in 0..n {
         let at = DVec2::new((k % nx) as f64 + 0.5, (k / nx) as f64 + 0.5);
         let d = 0.88 + 0.1 * rng.random::<f64>();
-        p.push(at, 0.5 * d, 1.0, 0.5, 0, DVec2::ZERO, 0.0);
+        p.push(at, 0.5 * d, 1.0, 0.4, 0, DVec2::ZERO, 0.0);
     }
     (setup, p)
+}
+
+/// The bed of a LAMMPS data file with the peer benchmark's physics: disc masses of
+/// density 1 (as `set density/disc 1.0` in `in.bench.lmp`), positions, velocities and
+/// angular velocities from the file, the box's x bounds as the periodic length.
+pub fn lammps_bed(path: &std::path::Path) -> Result<(Setup, Particles), String> {
+    let data = grains_core::lammps_data::read(path).map_err(|e| e.to_string())?;
+    if data.atoms.is_empty() {
+        return Err(format!("{}: no atoms", path.display()));
+    }
+    let top = data.atoms.iter().map(|a| a.pos[1]).fold(data.hi[1], f64::max);
+    let setup = peer_setup(DVec2::new(data.lo[0], data.lo[1].min(0.0)), DVec2::new(data.hi[0], top + 1.0));
+    let mut p = Particles::default();
+    for a in &data.atoms {
+        if !(a.diameter > 0.0) {
+            return Err(format!("{}: atom {} has diameter {}: must be > 0", path.display(), a.id, a.diameter));
+        }
+        let at = setup.domain.wrap(DVec2::new(a.pos[0], a.pos[1]));
+        p.push(at, 0.5 * a.diameter, 1.0, 0.4, 0, DVec2::new(a.vel[0], a.vel[1]), a.omega[2]);
+    }
+    Ok((setup, p))
 }
 
 /// FNV-1a over every particle's position, velocity and angular velocity (in id order)
