@@ -75,7 +75,10 @@ pub fn cmd_bench(what: BenchCommand) -> ExitCode {
                 state.contacts.len() as f64 / particles as f64,
                 d.mean_coordination(particles)
             );
-            println!("state-hash: {:016x}", state_hash(&state));
+            println!(
+                "state-hash: {:016x}",
+                grains_dem::diagnostics::state_hash(&state)
+            );
             println!("particle-steps/s: {rate:.4e}");
             ExitCode::SUCCESS
         }
@@ -151,51 +154,35 @@ pub fn lammps_bed(path: &std::path::Path) -> Result<(Setup, Particles), String> 
     if data.atoms.is_empty() {
         return Err(format!("{}: no atoms", path.display()));
     }
-    let top = data.atoms.iter().map(|a| a.pos[1]).fold(data.hi[1], f64::max);
-    let setup = peer_setup(DVec2::new(data.lo[0], data.lo[1].min(0.0)), DVec2::new(data.hi[0], top + 1.0));
+    let top = data
+        .atoms
+        .iter()
+        .map(|a| a.pos[1])
+        .fold(data.hi[1], f64::max);
+    let setup = peer_setup(
+        DVec2::new(data.lo[0], data.lo[1].min(0.0)),
+        DVec2::new(data.hi[0], top + 1.0),
+    );
     let mut p = Particles::default();
     for a in &data.atoms {
         if !(a.diameter > 0.0) {
-            return Err(format!("{}: atom {} has diameter {}: must be > 0", path.display(), a.id, a.diameter));
+            return Err(format!(
+                "{}: atom {} has diameter {}: must be > 0",
+                path.display(),
+                a.id,
+                a.diameter
+            ));
         }
         let at = setup.domain.wrap(DVec2::new(a.pos[0], a.pos[1]));
-        p.push(at, 0.5 * a.diameter, 1.0, 0.4, 0, DVec2::new(a.vel[0], a.vel[1]), a.omega[2]);
+        p.push(
+            at,
+            0.5 * a.diameter,
+            1.0,
+            0.4,
+            0,
+            DVec2::new(a.vel[0], a.vel[1]),
+            a.omega[2],
+        );
     }
     Ok((setup, p))
-}
-
-/// FNV-1a over every particle's position, velocity and angular velocity (in id order)
-/// and every touching pair's tangential spring (keyed by ids).
-pub fn state_hash(s: &State) -> u64 {
-    let p = &s.particles;
-    let mut h: u64 = 0xcbf29ce484222325;
-    let mut eat = |bits: u64| {
-        for b in bits.to_le_bytes() {
-            h ^= b as u64;
-            h = h.wrapping_mul(0x100000001b3);
-        }
-    };
-    let mut order: Vec<usize> = (0..p.len()).collect();
-    order.sort_unstable_by_key(|&i| p.id[i]);
-    for &i in &order {
-        for v in [p.pos[i].x, p.pos[i].y, p.vel[i].x, p.vel[i].y, p.omega[i]] {
-            eat(v.to_bits());
-        }
-    }
-    let list = &s.contacts;
-    let mut springs = Vec::new();
-    for i in 0..p.len() {
-        for e in list.row[i] as usize..list.row[i + 1] as usize {
-            if list.shear[e] != 0.0 {
-                let (a, b) = (p.id[i], p.id[list.nbr[e] as usize]);
-                springs.push(((a.min(b) as u64) << 32 | a.max(b) as u64, list.shear[e]));
-            }
-        }
-    }
-    springs.sort_unstable_by_key(|&(k, _)| k);
-    for (k, v) in springs {
-        eat(k);
-        eat(v.to_bits());
-    }
-    h
 }

@@ -71,7 +71,9 @@ fn get_len(r: &mut impl Read, limit: usize) -> Result<usize, SnapshotError> {
     r.read_exact(&mut b)?;
     let n = u64::from_le_bytes(b);
     if n > limit as u64 {
-        return Err(SnapshotError::Invalid(format!("array of {n} elements exceeds the limit {limit}")));
+        return Err(SnapshotError::Invalid(format!(
+            "array of {n} elements exceeds the limit {limit}"
+        )));
     }
     Ok(n as usize)
 }
@@ -85,7 +87,9 @@ fn get_bytes(r: &mut impl Read, n: usize, size: usize) -> Result<Vec<u8>, Snapsh
 fn get_f64(r: &mut impl Read, limit: usize) -> Result<Vec<f64>, SnapshotError> {
     let n = get_len(r, limit)?;
     let b = get_bytes(r, n, 8)?;
-    Ok(b.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect())
+    Ok(b.chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+        .collect())
 }
 
 fn get_vec2(r: &mut impl Read, limit: usize) -> Result<Vec<DVec2>, SnapshotError> {
@@ -104,20 +108,27 @@ fn get_vec2(r: &mut impl Read, limit: usize) -> Result<Vec<DVec2>, SnapshotError
 fn get_u32(r: &mut impl Read, limit: usize) -> Result<Vec<u32>, SnapshotError> {
     let n = get_len(r, limit)?;
     let b = get_bytes(r, n, 4)?;
-    Ok(b.chunks_exact(4).map(|c| u32::from_le_bytes(c.try_into().unwrap())).collect())
+    Ok(b.chunks_exact(4)
+        .map(|c| u32::from_le_bytes(c.try_into().unwrap()))
+        .collect())
 }
 
 fn get_u64(r: &mut impl Read, limit: usize) -> Result<Vec<u64>, SnapshotError> {
     let n = get_len(r, limit)?;
     let b = get_bytes(r, n, 8)?;
-    Ok(b.chunks_exact(8).map(|c| u64::from_le_bytes(c.try_into().unwrap())).collect())
+    Ok(b.chunks_exact(8)
+        .map(|c| u64::from_le_bytes(c.try_into().unwrap()))
+        .collect())
 }
 
 /// Writes the state.
 pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
     let p = &state.particles;
     let c = &state.contacts;
-    put_u64(w, &[state.step, state.time.to_bits(), c.builds, c.n_walls as u64])?;
+    put_u64(
+        w,
+        &[state.step, state.time.to_bits(), c.builds, c.n_walls as u64],
+    )?;
     put_u32(w, &p.id)?;
     put_vec2(w, &p.pos)?;
     put_vec2(w, &p.vel)?;
@@ -174,7 +185,10 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
     p.torque = get_f64(r, n)?;
     let n_walls = head[3] as usize;
     if n_walls > crate::setup::MAX_WALLS {
-        return Err(SnapshotError::Invalid(format!("{n_walls} walls (at most {})", crate::setup::MAX_WALLS)));
+        return Err(SnapshotError::Invalid(format!(
+            "{n_walls} walls (at most {})",
+            crate::setup::MAX_WALLS
+        )));
     }
     let mut c = ContactList {
         row: get_u32(r, n + 1)?,
@@ -197,7 +211,9 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
         if got == want {
             Ok(())
         } else {
-            Err(SnapshotError::Invalid(format!("{what}: {got} values, expected {want}")))
+            Err(SnapshotError::Invalid(format!(
+                "{what}: {got} values, expected {want}"
+            )))
         }
     };
     for (what, got) in [
@@ -218,17 +234,29 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
     same("neighbour rows", c.row.len(), n + 1)?;
     same("reverse rows", c.rev_row.len(), n + 1)?;
     same("wall springs", c.wall_shear.len(), n * n_walls)?;
-    for (what, got) in [("springs", c.shear.len()), ("pair forces", c.fpair.len()), ("tangential forces", c.ftan.len())] {
+    for (what, got) in [
+        ("springs", c.shear.len()),
+        ("pair forces", c.fpair.len()),
+        ("tangential forces", c.ftan.len()),
+    ] {
         same(what, got, m)?;
     }
     if c.row.last().copied().unwrap_or(0) as usize != m || c.row.windows(2).any(|w| w[0] > w[1]) {
-        return Err(SnapshotError::Invalid("neighbour rows do not index the entries".into()));
+        return Err(SnapshotError::Invalid(
+            "neighbour rows do not index the entries".into(),
+        ));
     }
     if c.nbr.iter().any(|&j| j as usize >= n) || c.rev_entry.iter().any(|&e| e as usize >= m) {
-        return Err(SnapshotError::Invalid("a neighbour index is out of range".into()));
+        return Err(SnapshotError::Invalid(
+            "a neighbour index is out of range".into(),
+        ));
     }
-    if c.rev_row.last().copied().unwrap_or(0) as usize != c.rev_entry.len() || c.rev_row.windows(2).any(|w| w[0] > w[1]) {
-        return Err(SnapshotError::Invalid("reverse rows do not index the reverse entries".into()));
+    if c.rev_row.last().copied().unwrap_or(0) as usize != c.rev_entry.len()
+        || c.rev_row.windows(2).any(|w| w[0] > w[1])
+    {
+        return Err(SnapshotError::Invalid(
+            "reverse rows do not index the reverse entries".into(),
+        ));
     }
     if loads.len() % 4 != 0 {
         return Err(SnapshotError::Invalid("wall loads".into()));

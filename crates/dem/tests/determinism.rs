@@ -86,16 +86,32 @@ fn assert_same(a: &State, b: &State, what: &str) {
     assert_eq!(a.step, b.step, "{what}: step");
     assert_eq!(a.time.to_bits(), b.time.to_bits(), "{what}: time");
     assert_eq!(pa.id, pb.id, "{what}: order");
-    let bits2 = |v: &[DVec2]| v.iter().flat_map(|x| [x.x.to_bits(), x.y.to_bits()]).collect::<Vec<_>>();
+    let bits2 = |v: &[DVec2]| {
+        v.iter()
+            .flat_map(|x| [x.x.to_bits(), x.y.to_bits()])
+            .collect::<Vec<_>>()
+    };
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits2(&pa.pos), bits2(&pb.pos), "{what}: positions");
     assert_eq!(bits2(&pa.vel), bits2(&pb.vel), "{what}: velocities");
-    assert_eq!(bits(&pa.omega), bits(&pb.omega), "{what}: angular velocities");
+    assert_eq!(
+        bits(&pa.omega),
+        bits(&pb.omega),
+        "{what}: angular velocities"
+    );
     assert_eq!(bits2(&pa.force), bits2(&pb.force), "{what}: forces");
     assert_eq!(bits(&pa.torque), bits(&pb.torque), "{what}: torques");
     assert_eq!(a.contacts.nbr, b.contacts.nbr, "{what}: neighbour list");
-    assert_eq!(bits(&a.contacts.shear), bits(&b.contacts.shear), "{what}: tangential history");
-    assert_eq!(bits(&a.contacts.wall_shear), bits(&b.contacts.wall_shear), "{what}: wall history");
+    assert_eq!(
+        bits(&a.contacts.shear),
+        bits(&b.contacts.shear),
+        "{what}: tangential history"
+    );
+    assert_eq!(
+        bits(&a.contacts.wall_shear),
+        bits(&b.contacts.wall_shear),
+        "{what}: wall history"
+    );
     assert_eq!(a.wall_loads, b.wall_loads, "{what}: wall loads");
 }
 
@@ -121,7 +137,10 @@ fn checkpoint_and_resume_is_bitwise_identical() {
 
     // A truncated snapshot is refused, not a panic.
     for cut in [0, 7, 100, bytes.len() / 2, bytes.len() - 1] {
-        assert!(grains_dem::checkpoint::read(&mut &bytes[..cut], 10_000).is_err(), "cut at {cut}");
+        assert!(
+            grains_dem::checkpoint::read(&mut &bytes[..cut], 10_000).is_err(),
+            "cut at {cut}"
+        );
     }
     // A length field blown up by corruption is refused without allocating it.
     let mut bad = bytes.clone();
