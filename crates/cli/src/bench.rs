@@ -16,9 +16,16 @@ use std::time::Instant;
 pub enum BenchCommand {
     /// The DEM engine on a bed of disks.
     Dem {
-        /// Number of disks in the bed.
+        /// Number of disks in a bed grains builds itself (ignored with --lammps-data).
         #[arg(long, default_value_t = 20_000)]
         particles: usize,
+        /// Start from this LAMMPS data file (atom_style sphere), as the peer benchmark does.
+        #[arg(long)]
+        lammps_data: Option<std::path::PathBuf>,
+        /// Repeat the data file's bed this many times side by side along x (a wider bed
+        /// with the same contact statistics: 18 × the 100 k bed is 1.8 M disks).
+        #[arg(long, default_value_t = 1)]
+        tile: usize,
         /// Timed steps.
         #[arg(long, default_value_t = 2000)]
         steps: u64,
@@ -74,22 +81,36 @@ pub fn cmd_bench(what: BenchCommand) -> ExitCode {
         }),
         BenchCommand::Dem {
             particles,
+            lammps_data,
+            tile,
             steps,
             threads,
         } => {
-            if particles == 0 {
-                return fail(1, "--particles = 0: must be at least 1");
+            if tile == 0 {
+                return fail(1, "--tile = 0: must be at least 1");
             }
             let threads = match set_threads(threads) {
                 Ok(t) => t,
                 Err(e) => return fail(1, &e),
             };
-            let (setup, p) = peer_bed(particles);
+            let (setup, p) = match &lammps_data {
+                Some(path) => match lammps_bed(path, tile) {
+                    Ok(v) => v,
+                    Err(e) => return fail(1, &e),
+                },
+                None if particles == 0 => return fail(1, "--particles = 0: must be at least 1"),
+                None => peer_bed(particles),
+            };
+            let particles = p.len();
             let mut state = State::new(&setup, p);
             let t0 = Instant::now();
-            for _ in 0..steps {
-                step(&setup, &mut state);
-            }
+            // Step from inside the pool: parallel passes then start on a worker thread
+            // instead of waking the pool from outside three times a step.
+            rayon::scope(|_| {
+                for _ in 0..steps {
+                    step(&setup, &mut state);
+                }
+            });
             let secs = t0.elapsed().as_secs_f64();
             let rate = particles as f64 * steps as f64 / secs;
             println!("particles: {particles}");
@@ -97,18 +118,27 @@ pub fn cmd_bench(what: BenchCommand) -> ExitCode {
             println!("threads: {threads}");
             println!("wall time: {secs:.3} s");
             println!("neighbour builds: {}", state.contacts.builds);
-            println!("state-hash: {:016x}", state_hash(&state));
+            let d = grains_dem::diagnostics::measure(&setup, &state);
+            println!(
+                "list entries per particle: {:.3}, contacts per particle: {:.3}",
+                state.contacts.len() as f64 / particles as f64,
+                d.mean_coordination(particles)
+            );
+            println!(
+                "state-hash: {:016x}",
+                grains_dem::diagnostics::state_hash(&state)
+            );
+            if let Some(mb) = peak_memory_mb() {
+                println!("peak memory: {mb:.0} MB");
+            }
             println!("particle-steps/s: {rate:.4e}");
             ExitCode::SUCCESS
         }
     }
 }
 
-/// A bed of `n` disks (d uniform in [0.88, 0.98)) on a square lattice of pitch 1 over a
-/// floor, about 2.3 times wider than high, with the peer benchmark's contact law.
-pub fn peer_bed(n: usize) -> (Setup, Particles) {
-    let nx = ((2.27 * n as f64).sqrt().ceil() as usize).max(4);
-    let ny = n.div_ceil(nx);
+/// The peer benchmark's physics in a box `lo..hi`, periodic in x, floor at y = 0.
+fn peer_setup(lo: DVec2, hi: DVec2) -> Setup {
     let material = Material {
         name: "bench".into(),
         density: 1.0,
@@ -116,7 +146,8 @@ pub fn peer_bed(n: usize) -> (Setup, Particles) {
         poisson: None,
         restitution: None,
         friction: None,
-        inertia_factor: 0.5,
+        // LAMMPS `fix nve/sphere` (no `disc` keyword) integrates rotation with I = 0.4 m r².
+        inertia_factor: 0.4,
     };
     let model = ContactModel::HookeHistory {
         kn: 4000.0,
@@ -127,8 +158,8 @@ pub fn peer_bed(n: usize) -> (Setup, Particles) {
         limit_damping: false,
     };
     let domain = Domain {
-        lo: DVec2::new(0.0, 0.0),
-        hi: DVec2::new(nx as f64, ny as f64 + 2.0),
+        lo,
+        hi,
         periodic: [true, false],
     };
     let floor = Wall {
@@ -139,7 +170,7 @@ pub fn peer_bed(n: usize) -> (Setup, Particles) {
         },
         material: None,
     };
-    let setup = Setup::new(
+    Setup::new(
         domain,
         vec![material],
         model,
@@ -148,49 +179,74 @@ pub fn peer_bed(n: usize) -> (Setup, Particles) {
         5e-4,
         0.1,
     )
-    .expect("the benchmark set-up is valid");
+    .expect("the benchmark set-up is valid")
+}
+
+/// A bed of `n` disks (d uniform in [0.88, 0.98)) on a square lattice of pitch 1 over a
+/// floor, about 2.3 times wider than high, with the peer benchmark's contact law.
+pub fn peer_bed(n: usize) -> (Setup, Particles) {
+    let nx = ((2.27 * n as f64).sqrt().ceil() as usize).max(4);
+    let ny = n.div_ceil(nx);
+    let setup = peer_setup(DVec2::ZERO, DVec2::new(nx as f64, ny as f64 + 2.0));
     let mut rng = rng::seeded(4711);
     let mut p = Particles::default();
     for k in 0..n {
         let at = DVec2::new((k % nx) as f64 + 0.5, (k / nx) as f64 + 0.5);
         let d = 0.88 + 0.1 * rng.random::<f64>();
-        p.push(at, 0.5 * d, 1.0, 0.5, 0, DVec2::ZERO, 0.0);
+        p.push(at, 0.5 * d, 1.0, 0.4, 0, DVec2::ZERO, 0.0);
     }
     (setup, p)
 }
 
-/// FNV-1a over every particle's position, velocity and angular velocity (in id order)
-/// and every touching pair's tangential spring (keyed by ids).
-pub fn state_hash(s: &State) -> u64 {
-    let p = &s.particles;
-    let mut h: u64 = 0xcbf29ce484222325;
-    let mut eat = |bits: u64| {
-        for b in bits.to_le_bytes() {
-            h ^= b as u64;
-            h = h.wrapping_mul(0x100000001b3);
-        }
-    };
-    let mut order: Vec<usize> = (0..p.len()).collect();
-    order.sort_unstable_by_key(|&i| p.id[i]);
-    for &i in &order {
-        for v in [p.pos[i].x, p.pos[i].y, p.vel[i].x, p.vel[i].y, p.omega[i]] {
-            eat(v.to_bits());
-        }
+/// The bed of a LAMMPS data file with the peer benchmark's physics: disc masses of
+/// density 1 (as `set density/disc 1.0` in `in.bench.lmp`), positions, velocities and
+/// angular velocities from the file, the box's x bounds as the periodic length.
+pub fn lammps_bed(path: &std::path::Path, tile: usize) -> Result<(Setup, Particles), String> {
+    let data = grains_core::lammps_data::read(path).map_err(|e| e.to_string())?;
+    if data.atoms.is_empty() {
+        return Err(format!("{}: no atoms", path.display()));
     }
-    let list = &s.contacts;
-    let mut springs = Vec::new();
-    for i in 0..p.len() {
-        for e in list.row[i] as usize..list.row[i + 1] as usize {
-            if list.shear[e] != 0.0 {
-                let (a, b) = (p.id[i], p.id[list.nbr[e] as usize]);
-                springs.push(((a.min(b) as u64) << 32 | a.max(b) as u64, list.shear[e]));
+    let top = data
+        .atoms
+        .iter()
+        .map(|a| a.pos[1])
+        .fold(data.hi[1], f64::max);
+    let width = data.hi[0] - data.lo[0];
+    let setup = peer_setup(
+        DVec2::new(data.lo[0], data.lo[1].min(0.0)),
+        DVec2::new(data.lo[0] + width * tile as f64, top + 1.0),
+    );
+    let mut p = Particles::default();
+    for k in 0..tile {
+        for a in &data.atoms {
+            if !(a.diameter > 0.0) {
+                return Err(format!(
+                    "{}: atom {} has diameter {}: must be > 0",
+                    path.display(),
+                    a.id,
+                    a.diameter
+                ));
             }
+            // Fold into the file's own periodic box, then shift to copy k.
+            let x = data.lo[0] + (a.pos[0] - data.lo[0]).rem_euclid(width) + width * k as f64;
+            p.push(
+                DVec2::new(x, a.pos[1]),
+                0.5 * a.diameter,
+                1.0,
+                0.4,
+                0,
+                DVec2::new(a.vel[0], a.vel[1]),
+                a.omega[2],
+            );
         }
     }
-    springs.sort_unstable_by_key(|&(k, _)| k);
-    for (k, v) in springs {
-        eat(k);
-        eat(v.to_bits());
-    }
-    h
+    Ok((setup, p))
+}
+
+/// Peak resident memory of this process (Linux `VmHWM`), in MB.
+fn peak_memory_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
 }

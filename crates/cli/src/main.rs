@@ -2,6 +2,7 @@
 
 mod bench;
 mod dem;
+mod interrupt;
 mod mpm;
 mod progress;
 mod summary;
@@ -15,7 +16,11 @@ use std::process::ExitCode;
 const DEMO: &str = include_str!("../../../examples/dem/demo_hopper.toml");
 
 #[derive(Parser)]
-#[command(name = "grains", version, about = "Simulation suite for granular materials under extreme loading")]
+#[command(
+    name = "grains",
+    version,
+    about = "Simulation suite for granular materials under extreme loading"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -33,6 +38,20 @@ enum Command {
         /// Worker threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
+        /// Stop once this step is reached, with a checkpoint (`grains resume` goes on).
+        #[arg(long)]
+        stop_at_step: Option<u64>,
+    },
+    /// Continue a run from the checkpoint in its output directory.
+    Resume {
+        /// The run's output directory (holding scenario.toml and checkpoint.bin).
+        dir: PathBuf,
+        /// Worker threads (default: all cores); results do not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Stop again once this step is reached, with a checkpoint.
+        #[arg(long)]
+        stop_at_step: Option<u64>,
     },
     /// Validate a scenario without running it and print derived figures.
     Check {
@@ -64,7 +83,17 @@ fn main() -> ExitCode {
         .init();
     let cli = Cli::parse();
     match cli.command {
-        Command::Run { scenario, out, threads } => cmd_run(scenario.as_deref(), out, threads),
+        Command::Run {
+            scenario,
+            out,
+            threads,
+            stop_at_step,
+        } => cmd_run(scenario.as_deref(), out, threads, stop_at_step),
+        Command::Resume {
+            dir,
+            threads,
+            stop_at_step,
+        } => cmd_resume(&dir, threads, stop_at_step),
         Command::Check { scenario, json } => cmd_check(&scenario, json),
         Command::Bench { what } => bench::cmd_bench(what),
     }
@@ -80,7 +109,8 @@ struct Source {
 fn read_source(path: Option<&Path>) -> Result<Source, String> {
     match path {
         Some(p) => {
-            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: cannot read scenario: {e}", p.display()))?;
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| format!("{}: cannot read scenario: {e}", p.display()))?;
             Ok(Source {
                 text,
                 origin: p.display().to_string(),
@@ -102,9 +132,18 @@ fn read_source(path: Option<&Path>) -> Result<Source, String> {
 /// scenario type strictly.
 fn engine_of(src: &Source) -> Result<Engine, String> {
     let value: toml::Table = toml::from_str(&src.text).map_err(|e| {
-        let line = e.span().map(|s| src.text[..s.start.min(src.text.len())].matches('\n').count() + 1);
+        let line = e.span().map(|s| {
+            src.text[..s.start.min(src.text.len())]
+                .matches('\n')
+                .count()
+                + 1
+        });
         let at = line.map(|l| format!(" line {l}:")).unwrap_or_default();
-        format!("{}:{at} not a valid TOML file: {}", src.origin, e.message().replace('\n', " ").trim())
+        format!(
+            "{}:{at} not a valid TOML file: {}",
+            src.origin,
+            e.message().replace('\n', " ").trim()
+        )
     })?;
     match value.get("engine") {
         None => Ok(Engine::Dem),
@@ -114,7 +153,32 @@ fn engine_of(src: &Source) -> Result<Engine, String> {
     }
 }
 
-fn cmd_run(path: Option<&Path>, out: Option<PathBuf>, threads: Option<usize>) -> ExitCode {
+fn cmd_resume(dir: &Path, threads: Option<usize>, stop_at_step: Option<u64>) -> ExitCode {
+    let src = match read_source(Some(&dir.join("scenario.toml"))) {
+        Ok(s) => s,
+        Err(e) => return fail(1, &e),
+    };
+    let engine = match engine_of(&src) {
+        Ok(e) => e,
+        Err(e) => return fail(1, &e),
+    };
+    let threads = match set_threads(threads) {
+        Ok(t) => t,
+        Err(e) => return fail(1, &e),
+    };
+    interrupt::install();
+    match engine {
+        Engine::Dem => dem::cmd_resume(dir, threads, stop_at_step),
+        other => fail(1, &format!("{}: resume is supported for engine = \"dem\" runs, this one is {other:?}", dir.display())),
+    }
+}
+
+fn cmd_run(
+    path: Option<&Path>,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+    stop_at_step: Option<u64>,
+) -> ExitCode {
     let src = match read_source(path) {
         Ok(s) => s,
         Err(e) => return fail(1, &e),
@@ -128,7 +192,10 @@ fn cmd_run(path: Option<&Path>, out: Option<PathBuf>, threads: Option<usize>) ->
         Err(e) => return fail(1, &e),
     };
     match engine {
-        Engine::Dem => dem::cmd_run(&src.text, &src.origin, &src.base, out, threads),
+        Engine::Dem => {
+            interrupt::install();
+            dem::cmd_run(&src.text, &src.origin, &src.base, out, threads, stop_at_step)
+        }
         Engine::Mpm => mpm::cmd_run(&src.text, &src.origin, &src.base, out, threads),
     }
 }
@@ -172,11 +239,23 @@ pub fn report(checks: &[Check], unstable: Option<&str>, out: &Path) -> ExitCode 
         );
     }
     if let Some(msg) = unstable {
-        return fail(3, &format!("run stopped, unstable at {msg}; last good output kept in {}", out.display()));
+        return fail(
+            3,
+            &format!(
+                "run stopped, unstable at {msg}; last good output kept in {}",
+                out.display()
+            ),
+        );
     }
     let failed = checks.iter().filter(|c| !c.pass).count();
     if failed > 0 {
-        return fail(2, &format!("{failed} check(s) failed; see {}", out.join("summary.json").display()));
+        return fail(
+            2,
+            &format!(
+                "{failed} check(s) failed; see {}",
+                out.join("summary.json").display()
+            ),
+        );
     }
     eprintln!("grains: done; outputs in {}", out.display());
     ExitCode::SUCCESS

@@ -35,6 +35,8 @@ pub struct Summary {
     pub neighbour_builds: u64,
     /// Frames written.
     pub frames: usize,
+    /// Fingerprint of the final state (`grains_dem::diagnostics::state_hash`), as hex.
+    pub state_hash: String,
     /// Scenario-specific figures.
     pub figures: serde_json::Map<String, serde_json::Value>,
     /// Validation checks.

@@ -171,3 +171,40 @@ pub fn wall_overlap(setup: &Setup, p: &Particles, i: usize, w: usize) -> Option<
 pub fn index_of(p: &Particles, id: u32) -> Option<usize> {
     p.id.iter().position(|&k| k == id)
 }
+
+/// A fingerprint of the state: FNV-1a over every particle's position, velocity and
+/// angular velocity (in id order) and every touching pair's tangential spring (keyed by
+/// ids). Equal hashes mean bitwise-equal runs, whatever the thread count or restarts.
+pub fn state_hash(s: &State) -> u64 {
+    let p = &s.particles;
+    let mut h: u64 = 0xcbf29ce484222325;
+    let mut eat = |bits: u64| {
+        for b in bits.to_le_bytes() {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x100000001b3);
+        }
+    };
+    let mut order: Vec<usize> = (0..p.len()).collect();
+    order.sort_unstable_by_key(|&i| p.id[i]);
+    for &i in &order {
+        for v in [p.pos[i].x, p.pos[i].y, p.vel[i].x, p.vel[i].y, p.omega[i]] {
+            eat(v.to_bits());
+        }
+    }
+    let list = &s.contacts;
+    let mut springs = Vec::new();
+    for i in 0..p.len() {
+        for e in list.row[i] as usize..list.row[i + 1] as usize {
+            if list.shear[e] != 0.0 {
+                let (a, b) = (p.id[i], p.id[list.nbr[e] as usize]);
+                springs.push(((a.min(b) as u64) << 32 | a.max(b) as u64, list.shear[e]));
+            }
+        }
+    }
+    springs.sort_unstable_by_key(|&(k, _)| k);
+    for (k, v) in springs {
+        eat(k);
+        eat(v.to_bits());
+    }
+    h
+}

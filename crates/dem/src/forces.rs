@@ -286,12 +286,10 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
                 let rsum = ri + rj;
                 let dist2 = d.length_squared();
                 let k = e - base;
-                if dist2 >= rsum * rsum || dist2 == 0.0 {
-                    c.shear[k] = 0.0;
-                    c.fpair[k] = DVec2::ZERO;
-                    c.ftan[k] = 0.0;
-                    continue;
-                }
+                // Every entry is written into the block's next slot, and the slot is kept
+                // only if the pair touches: no unpredictable branch per entry. Entries
+                // start cleared; the scatter writes back those that touch.
+                let touching = (dist2 < rsum * rsum) & (dist2 > 0.0);
                 let t = b.len;
                 let v = vi - self.vel[j];
                 b.entry[t] = k as u32;
@@ -309,7 +307,10 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
                 b.vy[t] = v.y;
                 b.spin[t] = si + rj * self.omega[j];
                 b.xi[t] = c.shear[k];
-                b.len += 1;
+                c.shear[k] = 0.0;
+                c.fpair[k] = DVec2::ZERO;
+                c.ftan[k] = 0.0;
+                b.len += touching as usize;
                 if b.len == BLOCK {
                     self.flush(&mut b, c);
                 }
@@ -334,7 +335,8 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
     /// loop vectorises.
     #[inline(always)]
     fn law(&self, b: &mut Block, params: impl Fn(usize) -> PairParams) {
-        let n = b.len;
+        // The bound lets the compiler drop index checks, which would stop vectorisation.
+        let n = b.len.min(BLOCK);
         for t in 0..n {
             let dist = b.dist2[t].sqrt();
             // One division serves both 1/dist and m_eff = 1/(1/m_i + 1/m_j).
@@ -363,7 +365,7 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
 
     /// Adds the block's forces to its particles in entry order.
     fn scatter(&self, b: &mut Block, c: &mut Chunk) {
-        let n = b.len;
+        let n = b.len.min(BLOCK);
         let (first, end) = (c.range.start, c.range.end);
         for t in 0..n {
             let (i, j, k) = (b.i[t] as usize, b.j[t] as usize, b.entry[t] as usize);

@@ -14,6 +14,7 @@
 // five or more fields would hide that, not clarify it.
 #![allow(clippy::needless_range_loop)]
 
+pub mod checkpoint;
 pub mod contact;
 pub mod diagnostics;
 pub mod domain;

@@ -74,11 +74,78 @@ fn run(threads: usize) -> State {
     pool.install(|| {
         let (setup, p) = bed(6000);
         let mut s = State::new(&setup, p);
-        for _ in 0..300 {
+        for _ in 0..1000 {
             step(&setup, &mut s);
         }
         s
     })
+}
+
+fn assert_same(a: &State, b: &State, what: &str) {
+    let (pa, pb) = (&a.particles, &b.particles);
+    assert_eq!(a.step, b.step, "{what}: step");
+    assert_eq!(a.time.to_bits(), b.time.to_bits(), "{what}: time");
+    assert_eq!(pa.id, pb.id, "{what}: order");
+    let bits2 = |v: &[DVec2]| {
+        v.iter()
+            .flat_map(|x| [x.x.to_bits(), x.y.to_bits()])
+            .collect::<Vec<_>>()
+    };
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits2(&pa.pos), bits2(&pb.pos), "{what}: positions");
+    assert_eq!(bits2(&pa.vel), bits2(&pb.vel), "{what}: velocities");
+    assert_eq!(
+        bits(&pa.omega),
+        bits(&pb.omega),
+        "{what}: angular velocities"
+    );
+    assert_eq!(bits2(&pa.force), bits2(&pb.force), "{what}: forces");
+    assert_eq!(bits(&pa.torque), bits(&pb.torque), "{what}: torques");
+    assert_eq!(a.contacts.nbr, b.contacts.nbr, "{what}: neighbour list");
+    assert_eq!(
+        bits(&a.contacts.shear),
+        bits(&b.contacts.shear),
+        "{what}: tangential history"
+    );
+    assert_eq!(
+        bits(&a.contacts.wall_shear),
+        bits(&b.contacts.wall_shear),
+        "{what}: wall history"
+    );
+    assert_eq!(a.wall_loads, b.wall_loads, "{what}: wall loads");
+}
+
+#[test]
+fn checkpoint_and_resume_is_bitwise_identical() {
+    let (setup, p) = bed(3000);
+    let mut straight = State::new(&setup, p.clone());
+    for _ in 0..600 {
+        step(&setup, &mut straight);
+    }
+    let mut first = State::new(&setup, p);
+    for _ in 0..300 {
+        step(&setup, &mut first);
+    }
+    let mut bytes = Vec::new();
+    grains_dem::checkpoint::write(&first, &mut bytes).unwrap();
+    drop(first);
+    let mut resumed = grains_dem::checkpoint::read(&mut &bytes[..], 10_000).unwrap();
+    for _ in 0..300 {
+        step(&setup, &mut resumed);
+    }
+    assert_same(&straight, &resumed, "resumed");
+
+    // A truncated snapshot is refused, not a panic.
+    for cut in [0, 7, 100, bytes.len() / 2, bytes.len() - 1] {
+        assert!(
+            grains_dem::checkpoint::read(&mut &bytes[..cut], 10_000).is_err(),
+            "cut at {cut}"
+        );
+    }
+    // A length field blown up by corruption is refused without allocating it.
+    let mut bad = bytes.clone();
+    bad[32..40].copy_from_slice(&u64::MAX.to_le_bytes());
+    assert!(grains_dem::checkpoint::read(&mut &bad[..], 10_000).is_err());
 }
 
 #[test]
@@ -89,28 +156,6 @@ fn bitwise_identical_for_1_2_3_threads() {
         "the run must rebuild its neighbour list"
     );
     for t in [2, 3] {
-        let b = run(t);
-        let (pa, pb) = (&a.particles, &b.particles);
-        assert_eq!(pa.id, pb.id, "{t} threads: order");
-        for i in 0..pa.len() {
-            assert_eq!(
-                pa.pos[i].to_array().map(f64::to_bits),
-                pb.pos[i].to_array().map(f64::to_bits)
-            );
-            assert_eq!(
-                pa.vel[i].to_array().map(f64::to_bits),
-                pb.vel[i].to_array().map(f64::to_bits)
-            );
-            assert_eq!(pa.omega[i].to_bits(), pb.omega[i].to_bits());
-            assert_eq!(
-                pa.force[i].to_array().map(f64::to_bits),
-                pb.force[i].to_array().map(f64::to_bits)
-            );
-        }
-        assert_eq!(a.contacts.nbr, b.contacts.nbr);
-        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        assert_eq!(bits(&a.contacts.shear), bits(&b.contacts.shear));
-        assert_eq!(bits(&a.contacts.wall_shear), bits(&b.contacts.wall_shear));
-        assert_eq!(a.wall_loads, b.wall_loads);
+        assert_same(&a, &run(t), &format!("{t} threads"));
     }
 }

@@ -39,6 +39,16 @@ fn finite_positive(key: &str, v: f64) -> Result<(), SetupError> {
 
 /// Validates and assembles. `base` is the directory relative paths are read from.
 pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, SetupError> {
+    assemble_with(s, base, None)
+}
+
+/// Like [`assemble`], but with the particles given (those of a checkpoint) instead of
+/// built from the scenario's sources.
+pub fn assemble_with(
+    s: &Scenario,
+    base: &Path,
+    given: Option<Particles>,
+) -> Result<Assembled, SetupError> {
     let domain = Domain {
         lo: DVec2::from(s.domain.lo),
         hi: DVec2::from(s.domain.hi),
@@ -89,9 +99,25 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, SetupError> {
         }
     }
 
-    let mut particles = Particles::default();
-    for (g, src) in s.particles.iter().enumerate() {
-        add_group(s, g, src, base, &material_index, &mut particles)?;
+    let from_sources = given.is_none();
+    let mut particles = given.unwrap_or_default();
+    if from_sources {
+        for (g, src) in s.particles.iter().enumerate() {
+            add_group(s, g, src, base, &material_index, &mut particles)?;
+        }
+    } else if let Some(&m) = particles
+        .material
+        .iter()
+        .find(|&&m| m as usize >= s.materials.len())
+    {
+        return Err(err(
+            "material",
+            m as u64,
+            format!(
+                "the checkpoint names material {m}, the scenario has {}",
+                s.materials.len()
+            ),
+        ));
     }
     if particles.is_empty() {
         return Err(err(
@@ -153,6 +179,11 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, SetupError> {
     }
     if let Some(r) = s.run.stop_kinetic_ratio {
         finite_positive("run.stop_kinetic_ratio", r)?;
+    }
+    if let Some(k) = s.output.checkpoint_every {
+        if k == 0 {
+            return Err(err("output.checkpoint_every", k, "must be at least 1 step"));
+        }
     }
     if let Some(t) = s.run.stop_rest_time {
         finite_positive("run.stop_rest_time", t)?;
@@ -304,6 +335,36 @@ fn add_group(
                     DVec2::ZERO
                 };
                 push(mat, at, r, v, 0.0, &format!("disk {k}"))?;
+            }
+        }
+        ParticleSource::LammpsData {
+            material,
+            path,
+            velocities,
+        } => {
+            let mat = material_index(&format!("{key}.material"), material)?;
+            let full = base.join(path);
+            let data = grains_core::lammps_data::read(&full).map_err(|e| {
+                err(
+                    format!("{key}.path"),
+                    format!("\"{}\"", full.display()),
+                    format!("must be a LAMMPS atom_style sphere data file: {e}"),
+                )
+            })?;
+            for a in &data.atoms {
+                let (v, w) = if *velocities {
+                    (DVec2::new(a.vel[0], a.vel[1]), a.omega[2])
+                } else {
+                    (DVec2::ZERO, 0.0)
+                };
+                push(
+                    mat,
+                    DVec2::new(a.pos[0], a.pos[1]),
+                    0.5 * a.diameter,
+                    v,
+                    w,
+                    &format!("atom {}", a.id),
+                )?;
             }
         }
         ParticleSource::File { material, path } => {

@@ -7,15 +7,16 @@ use glam::DVec2;
 use grains_core::checks::Check;
 use grains_dem::{Setup, State};
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 enum Phase {
+    #[default]
     Before,
     During,
     After,
 }
 
 /// What a pair of particles did in their first collision.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 struct Collision {
     ids: [u32; 2],
     at: [usize; 2],
@@ -28,7 +29,7 @@ struct Collision {
 }
 
 /// What one particle did in its first impact on one wall.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 struct Impact {
     id: u32,
     wall: usize,
@@ -40,7 +41,7 @@ struct Impact {
 }
 
 /// All recorders a scenario's checks need.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Probes {
     collisions: Vec<Collision>,
     impacts: Vec<Impact>,

@@ -91,6 +91,18 @@ pub enum ParticleSource {
         #[serde(default)]
         seed: u64,
     },
+    /// A LAMMPS data file (`atom_style sphere`, as `write_data` writes it): positions,
+    /// diameters and, if present, velocities and angular velocities. Masses come from the
+    /// material's density as disks (πr²ρ), not from the file's density column.
+    LammpsData {
+        /// Material name.
+        material: String,
+        /// Path, relative to the scenario file.
+        path: String,
+        /// Take velocities and angular velocities from the file (default true).
+        #[serde(default = "default_true")]
+        velocities: bool,
+    },
     /// A packing file: one disk per line `x y r` (SI units), `#` comments.
     File {
         /// Material name.
@@ -98,6 +110,10 @@ pub enum ParticleSource {
         /// Path, relative to the scenario file.
         path: String,
     },
+}
+
+fn default_true() -> bool {
+    true
 }
 
 fn default_spacing() -> f64 {
@@ -255,6 +271,14 @@ pub struct OutputSpec {
     /// Number of rows in history.csv over the run.
     #[serde(default = "default_history")]
     pub history: u64,
+    /// Write `checkpoint.bin` every this many steps (also on Ctrl-C/SIGTERM and at
+    /// `--stop-at-step`); `grains resume DIR` continues from it.
+    #[serde(default)]
+    pub checkpoint_every: Option<u64>,
+    /// Also write each frame as a LAMMPS text dump (`frames/particles_NNNNN.dump`,
+    /// columns `id type x y z radius vx vy vz omegaz fx fy fz`) for OVITO.
+    #[serde(default)]
+    pub lammps_dump: bool,
 }
 
 fn default_frames() -> u64 {
@@ -269,6 +293,8 @@ impl Default for OutputSpec {
         OutputSpec {
             frames: default_frames(),
             history: default_history(),
+            checkpoint_every: None,
+            lammps_dump: false,
         }
     }
 }

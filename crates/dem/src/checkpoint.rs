@@ -1,0 +1,279 @@
+//! Exact binary snapshots of a [`State`], so a run can stop and continue bitwise as if it
+//! had never stopped: every particle field, the neighbour list in its current order with
+//! its tangential history and wall springs, and the last wall loads.
+//!
+//! Layout: a sequence of tagged little-endian arrays (`u64` length, then the raw
+//! elements), in a fixed order. Readers check every length against the particle and
+//! entry counts and refuse anything inconsistent; integrity of the bytes themselves is
+//! the container's job (the CLI adds a checksum over the whole file).
+
+use crate::integrate::WallLoad;
+use crate::neighbours::ContactList;
+use crate::particles::Particles;
+use crate::step::State;
+use glam::DVec2;
+use std::io::{self, Read, Write};
+
+/// Why a snapshot could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum SnapshotError {
+    /// The bytes ended early or could not be read.
+    #[error("snapshot truncated or unreadable: {0}")]
+    Io(#[from] io::Error),
+    /// A length or value is inconsistent with the rest.
+    #[error("snapshot inconsistent: {0}")]
+    Invalid(String),
+}
+
+fn put_len(w: &mut impl Write, n: usize) -> io::Result<()> {
+    w.write_all(&(n as u64).to_le_bytes())
+}
+
+fn put_f64(w: &mut impl Write, v: &[f64]) -> io::Result<()> {
+    put_len(w, v.len())?;
+    let mut buf = Vec::with_capacity(8 * v.len());
+    for x in v {
+        buf.extend_from_slice(&x.to_le_bytes());
+    }
+    w.write_all(&buf)
+}
+
+fn put_vec2(w: &mut impl Write, v: &[DVec2]) -> io::Result<()> {
+    put_len(w, v.len())?;
+    let mut buf = Vec::with_capacity(16 * v.len());
+    for x in v {
+        buf.extend_from_slice(&x.x.to_le_bytes());
+        buf.extend_from_slice(&x.y.to_le_bytes());
+    }
+    w.write_all(&buf)
+}
+
+fn put_u32(w: &mut impl Write, v: &[u32]) -> io::Result<()> {
+    put_len(w, v.len())?;
+    let mut buf = Vec::with_capacity(4 * v.len());
+    for x in v {
+        buf.extend_from_slice(&x.to_le_bytes());
+    }
+    w.write_all(&buf)
+}
+
+fn put_u64(w: &mut impl Write, v: &[u64]) -> io::Result<()> {
+    put_len(w, v.len())?;
+    let mut buf = Vec::with_capacity(8 * v.len());
+    for x in v {
+        buf.extend_from_slice(&x.to_le_bytes());
+    }
+    w.write_all(&buf)
+}
+
+fn get_len(r: &mut impl Read, limit: usize) -> Result<usize, SnapshotError> {
+    let mut b = [0u8; 8];
+    r.read_exact(&mut b)?;
+    let n = u64::from_le_bytes(b);
+    if n > limit as u64 {
+        return Err(SnapshotError::Invalid(format!(
+            "array of {n} elements exceeds the limit {limit}"
+        )));
+    }
+    Ok(n as usize)
+}
+
+fn get_bytes(r: &mut impl Read, n: usize, size: usize) -> Result<Vec<u8>, SnapshotError> {
+    let mut buf = vec![0u8; n * size];
+    r.read_exact(&mut buf)?;
+    Ok(buf)
+}
+
+fn get_f64(r: &mut impl Read, limit: usize) -> Result<Vec<f64>, SnapshotError> {
+    let n = get_len(r, limit)?;
+    let b = get_bytes(r, n, 8)?;
+    Ok(b.chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+        .collect())
+}
+
+fn get_vec2(r: &mut impl Read, limit: usize) -> Result<Vec<DVec2>, SnapshotError> {
+    let n = get_len(r, limit)?;
+    let b = get_bytes(r, n, 16)?;
+    Ok(b.chunks_exact(16)
+        .map(|c| {
+            DVec2::new(
+                f64::from_le_bytes(c[..8].try_into().unwrap()),
+                f64::from_le_bytes(c[8..].try_into().unwrap()),
+            )
+        })
+        .collect())
+}
+
+fn get_u32(r: &mut impl Read, limit: usize) -> Result<Vec<u32>, SnapshotError> {
+    let n = get_len(r, limit)?;
+    let b = get_bytes(r, n, 4)?;
+    Ok(b.chunks_exact(4)
+        .map(|c| u32::from_le_bytes(c.try_into().unwrap()))
+        .collect())
+}
+
+fn get_u64(r: &mut impl Read, limit: usize) -> Result<Vec<u64>, SnapshotError> {
+    let n = get_len(r, limit)?;
+    let b = get_bytes(r, n, 8)?;
+    Ok(b.chunks_exact(8)
+        .map(|c| u64::from_le_bytes(c.try_into().unwrap()))
+        .collect())
+}
+
+/// Writes the state.
+pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
+    let p = &state.particles;
+    let c = &state.contacts;
+    put_u64(
+        w,
+        &[state.step, state.time.to_bits(), c.builds, c.n_walls as u64],
+    )?;
+    put_u32(w, &p.id)?;
+    put_vec2(w, &p.pos)?;
+    put_vec2(w, &p.vel)?;
+    put_f64(w, &p.omega)?;
+    put_f64(w, &p.radius)?;
+    put_f64(w, &p.inv_mass)?;
+    put_f64(w, &p.inv_inertia)?;
+    put_u32(w, &p.material.iter().map(|&m| m as u32).collect::<Vec<_>>())?;
+    put_vec2(w, &p.force)?;
+    put_f64(w, &p.torque)?;
+    put_u32(w, &c.row)?;
+    put_u32(w, &c.nbr)?;
+    put_f64(w, &c.shear)?;
+    put_vec2(w, &c.fpair)?;
+    put_f64(w, &c.ftan)?;
+    put_u32(w, &c.rev_row)?;
+    put_u32(w, &c.rev_entry)?;
+    put_u64(w, &c.wall_near)?;
+    put_f64(w, &c.wall_shear)?;
+    put_vec2(w, &c.pos_at_build)?;
+    let loads: Vec<f64> = state
+        .wall_loads
+        .iter()
+        .flat_map(|l| [l.force.x, l.force.y, l.torque, l.contacts as f64])
+        .collect();
+    put_f64(w, &loads)
+}
+
+/// Reads a state written by [`write`], checking that every array fits the others.
+/// `max_particles` bounds allocations so a corrupted length cannot exhaust memory.
+pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotError> {
+    let head = get_u64(r, 4)?;
+    if head.len() != 4 {
+        return Err(SnapshotError::Invalid("bad header".into()));
+    }
+    let lim = max_particles;
+    let elim = 64 * max_particles + 64;
+    let id = get_u32(r, lim)?;
+    let n = id.len();
+    let mut p = Particles {
+        id,
+        pos: get_vec2(r, n)?,
+        vel: get_vec2(r, n)?,
+        omega: get_f64(r, n)?,
+        radius: get_f64(r, n)?,
+        inv_mass: get_f64(r, n)?,
+        inv_inertia: get_f64(r, n)?,
+        material: Vec::new(),
+        force: Vec::new(),
+        torque: Vec::new(),
+    };
+    p.material = get_u32(r, n)?.into_iter().map(|m| m as u16).collect();
+    p.force = get_vec2(r, n)?;
+    p.torque = get_f64(r, n)?;
+    let n_walls = head[3] as usize;
+    if n_walls > crate::setup::MAX_WALLS {
+        return Err(SnapshotError::Invalid(format!(
+            "{n_walls} walls (at most {})",
+            crate::setup::MAX_WALLS
+        )));
+    }
+    let mut c = ContactList {
+        row: get_u32(r, n + 1)?,
+        nbr: get_u32(r, elim)?,
+        ..Default::default()
+    };
+    let m = c.nbr.len();
+    c.shear = get_f64(r, m)?;
+    c.fpair = get_vec2(r, m)?;
+    c.ftan = get_f64(r, m)?;
+    c.rev_row = get_u32(r, n + 1)?;
+    c.rev_entry = get_u32(r, m)?;
+    c.wall_near = get_u64(r, n)?;
+    c.wall_shear = get_f64(r, n * n_walls)?;
+    c.pos_at_build = get_vec2(r, n)?;
+    c.n_walls = n_walls;
+    c.builds = head[2];
+    let loads = get_f64(r, 4 * 64)?;
+    let same = |what: &str, got: usize, want: usize| {
+        if got == want {
+            Ok(())
+        } else {
+            Err(SnapshotError::Invalid(format!(
+                "{what}: {got} values, expected {want}"
+            )))
+        }
+    };
+    for (what, got) in [
+        ("positions", p.pos.len()),
+        ("velocities", p.vel.len()),
+        ("angular velocities", p.omega.len()),
+        ("radii", p.radius.len()),
+        ("masses", p.inv_mass.len()),
+        ("inertias", p.inv_inertia.len()),
+        ("materials", p.material.len()),
+        ("forces", p.force.len()),
+        ("torques", p.torque.len()),
+        ("wall masks", c.wall_near.len()),
+        ("build positions", c.pos_at_build.len()),
+    ] {
+        same(what, got, n)?;
+    }
+    same("neighbour rows", c.row.len(), n + 1)?;
+    same("reverse rows", c.rev_row.len(), n + 1)?;
+    same("wall springs", c.wall_shear.len(), n * n_walls)?;
+    for (what, got) in [
+        ("springs", c.shear.len()),
+        ("pair forces", c.fpair.len()),
+        ("tangential forces", c.ftan.len()),
+    ] {
+        same(what, got, m)?;
+    }
+    if c.row.last().copied().unwrap_or(0) as usize != m || c.row.windows(2).any(|w| w[0] > w[1]) {
+        return Err(SnapshotError::Invalid(
+            "neighbour rows do not index the entries".into(),
+        ));
+    }
+    if c.nbr.iter().any(|&j| j as usize >= n) || c.rev_entry.iter().any(|&e| e as usize >= m) {
+        return Err(SnapshotError::Invalid(
+            "a neighbour index is out of range".into(),
+        ));
+    }
+    if c.rev_row.last().copied().unwrap_or(0) as usize != c.rev_entry.len()
+        || c.rev_row.windows(2).any(|w| w[0] > w[1])
+    {
+        return Err(SnapshotError::Invalid(
+            "reverse rows do not index the reverse entries".into(),
+        ));
+    }
+    if loads.len() % 4 != 0 {
+        return Err(SnapshotError::Invalid("wall loads".into()));
+    }
+    let wall_loads = loads
+        .chunks_exact(4)
+        .map(|l| WallLoad {
+            force: DVec2::new(l[0], l[1]),
+            torque: l[2],
+            contacts: l[3] as u32,
+        })
+        .collect();
+    Ok(State {
+        particles: p,
+        contacts: c,
+        wall_loads,
+        time: f64::from_bits(head[1]),
+        step: head[0],
+    })
+}
