@@ -1,0 +1,248 @@
+//! The whole protocol, one stage per step: line the walls, deposit a dense start,
+//! grow by hard-disk Monte Carlo at the given rate until jammed, then swell and
+//! minimise the soft-disk energy to close the last gaps.
+
+use crate::deposit::deposit;
+use crate::lining::lining;
+use crate::mc::HardDisks;
+use crate::relax::Soft;
+use crate::spec::PackSpec;
+use crate::validate::Validated;
+use glam::DVec2;
+use grains_analysis::fraction::bulk_fraction;
+use grains_analysis::grid::CellGrid;
+use grains_analysis::region::Region;
+use grains_analysis::INTERIOR_MARGIN_D0;
+use grains_core::rng;
+use rand::RngExt;
+use std::time::Instant;
+
+/// Disks drawn for deposition, relative to the number the region holds at φ = 0.92.
+const DRAW_MARGIN: f64 = 1.05;
+/// Sweeps between jamming tests of the Monte Carlo stage.
+const STALL_WINDOW: u64 = 200;
+/// Growth over a window, relative to the nominal `rate × window`, below which the
+/// Monte Carlo stage counts as jammed.
+const STALL_FRACTION: f64 = 0.02;
+/// Force tolerance of each swell cycle and of the final minimisation (d0 units).
+const FTOL_CYCLE: f64 = 1e-5;
+const FTOL_FINAL: f64 = 1e-7;
+const ITER_CYCLE: u64 = 2000;
+const ITER_FINAL: u64 = 20_000;
+/// Energy per disk above which a swell cycle counts as jammed (overlaps ≳ 10⁻⁴ d0).
+const JAM_ENERGY: f64 = 1e-8;
+
+/// A finished packing in SI units; the first `lining` disks are the boundary layer.
+#[derive(Clone, Debug)]
+pub struct Packing {
+    /// Centres (m).
+    pub pos: Vec<DVec2>,
+    /// Radii (m).
+    pub radius: Vec<f64>,
+    /// Number of leading boundary-layer disks.
+    pub lining: usize,
+    /// The container (m).
+    pub region: Region,
+    /// How the protocol went.
+    pub stats: ProtocolStats,
+}
+
+/// Figures of the protocol's stages.
+#[derive(Clone, Debug, Default)]
+pub struct ProtocolStats {
+    /// Bulk disks deposited.
+    pub deposited: usize,
+    /// Bulk packing fraction after deposition.
+    pub fraction_after_deposit: f64,
+    /// Monte Carlo sweeps run.
+    pub sweeps: u64,
+    /// Bulk packing fraction when the Monte Carlo growth stopped.
+    pub fraction_after_growth: f64,
+    /// Acceptance of size exchanges in the last sweep.
+    pub swap_acceptance: f64,
+    /// Mean radius scale (relative to the drawn sizes) at the end.
+    pub final_scale: f64,
+    /// Swell cycles of the final minimisation.
+    pub swell_cycles: u32,
+    /// FIRE iterations in all.
+    pub iterations: u64,
+    /// Largest overlap left, relative to d0.
+    pub max_overlap: f64,
+    /// Bulk packing fraction at the end.
+    pub fraction_bulk: f64,
+    /// Probability mass the Gaussian loses at d ≤ 0.
+    pub truncated_mass: f64,
+    /// Wall time of the deposition (s).
+    pub seconds_deposit: f64,
+    /// Wall time of the Monte Carlo growth (s).
+    pub seconds_growth: f64,
+    /// Wall time of the swell-and-minimise stage (s).
+    pub seconds_swell: f64,
+}
+
+/// Runs the protocol. `say` receives one line per stage.
+pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Packing {
+    let d0 = v.d0;
+    let p = &spec.protocol;
+    // Work in units of d0 so tolerances are scale-free.
+    let region = scale_region(&v.region, 1.0 / d0);
+    let margin = INTERIOR_MARGIN_D0;
+    let mut stats = ProtocolStats {
+        truncated_mass: v.sizes.truncated_mass(),
+        ..Default::default()
+    };
+
+    // 1. Lining and sizes.
+    let phase = rng::stream(spec.seed, 1).random::<f64>();
+    let lining_disks = lining(&region, spec.lining.diameter_ratio, phase);
+    let fixed = lining_disks.len();
+    let mut size_rng = rng::stream(spec.seed, 0);
+    let mean_area = std::f64::consts::FRAC_PI_4 * v.sizes.mean_square() / (d0 * d0);
+    let draw = (region.area() * 0.92 / mean_area * DRAW_MARGIN).ceil() as usize;
+    let drawn: Vec<f64> = (0..draw)
+        .map(|_| 0.5 * p.deposit_scale * v.sizes.sample(&mut size_rng) / d0)
+        .collect();
+    say(format!("lining: {fixed} disks; drew {draw} sizes"));
+
+    // 2. Deposition: a dense, overlap-free start.
+    let t0 = Instant::now();
+    let dep = deposit(&region, &lining_disks, &drawn);
+    stats.deposited = dep.pos.len();
+    stats.seconds_deposit = t0.elapsed().as_secs_f64();
+    stats.fraction_after_deposit = bulk_fraction(&dep.pos, &dep.radius, &region, margin);
+    say(format!(
+        "deposition: {} disks in {:.1} s, bulk fraction {:.4}",
+        stats.deposited, stats.seconds_deposit, stats.fraction_after_deposit
+    ));
+
+    // 3. Monte Carlo growth from a dense fluid at `start_fraction` until jammed.
+    let t1 = Instant::now();
+    let order = spatial_order(&dep.pos, &region);
+    let mut pos: Vec<DVec2> = lining_disks.iter().map(|l| l.0).collect();
+    let mut base: Vec<f64> = lining_disks.iter().map(|l| l.1).collect();
+    pos.extend(order.iter().map(|&k| dep.pos[k as usize]));
+    base.extend(
+        order
+            .iter()
+            .map(|&k| dep.radius[k as usize] / p.deposit_scale),
+    );
+    let s_start = (p.deposit_scale
+        * (p.start_fraction / stats.fraction_after_deposit.max(1e-9)).sqrt())
+    .min(p.deposit_scale);
+    let mut scale = vec![1.0; fixed];
+    scale.extend(std::iter::repeat_n(s_start, base.len() - fixed));
+    let mut hd = HardDisks::new(pos, base, scale, fixed, spec.seed);
+    let cap = 1.0 + p.max_swell;
+    let mut last = s_start;
+    let mut swap = 0.0;
+    while hd.sweeps < p.max_sweeps {
+        let st = hd.sweep(&region, p.rate, cap);
+        swap = st.swap_acceptance;
+        if st.min_scale >= cap - 1e-12 {
+            break;
+        }
+        if hd.sweeps.is_multiple_of(STALL_WINDOW) {
+            let nominal = last * ((1.0 + p.rate).powi(STALL_WINDOW as i32) - 1.0);
+            if st.mean_scale - last < STALL_FRACTION * nominal {
+                break;
+            }
+            last = st.mean_scale;
+        }
+    }
+    stats.sweeps = hd.sweeps;
+    stats.swap_acceptance = swap;
+    stats.seconds_growth = t1.elapsed().as_secs_f64();
+    let radii: Vec<f64> = hd.base.iter().zip(&hd.scale).map(|(b, s)| b * s).collect();
+    stats.fraction_after_growth = bulk_fraction(&hd.pos, &radii, &region, margin);
+    say(format!(
+        "growth: {} Monte Carlo sweeps in {:.1} s at rate {:e}, bulk fraction {:.4}",
+        hd.sweeps, stats.seconds_growth, p.rate, stats.fraction_after_growth
+    ));
+
+    // 4. Swell and minimise: close the gaps hard-disk growth leaves at jamming.
+    let t2 = Instant::now();
+    let current: Vec<f64> = radii[fixed..].to_vec();
+    let mut soft = Soft::new(hd.pos, radii, fixed);
+    let mut s = 1.0;
+    let mut r = soft.minimise(&region, FTOL_CYCLE, ITER_CYCLE);
+    stats.iterations += r.iterations;
+    while stats.swell_cycles < 200 {
+        let s_next = s * (1.0 + p.swell_step);
+        set_scale(&mut soft, &current, s_next);
+        r = soft.minimise(&region, FTOL_CYCLE, ITER_CYCLE);
+        stats.iterations += r.iterations;
+        stats.swell_cycles += 1;
+        if r.energy > JAM_ENERGY {
+            set_scale(&mut soft, &current, s);
+            break;
+        }
+        s = s_next;
+    }
+    r = soft.minimise(&region, FTOL_FINAL, ITER_FINAL);
+    stats.iterations += r.iterations;
+    let sizes: Vec<f64> = soft.rad[fixed..].to_vec();
+    let drawn_total: f64 = hd.base[fixed..].iter().sum();
+    stats.final_scale = sizes.iter().sum::<f64>() / drawn_total.max(1e-300);
+    stats.max_overlap = r.max_overlap;
+    stats.fraction_bulk = bulk_fraction(&soft.pos, &soft.rad, &region, margin);
+    stats.seconds_swell = t2.elapsed().as_secs_f64();
+    say(format!(
+        "swell: {} cycles, {} FIRE iterations in {:.1} s; bulk fraction {:.4}, largest overlap {:.1e} d0",
+        stats.swell_cycles, stats.iterations, stats.seconds_swell, stats.fraction_bulk, stats.max_overlap
+    ));
+
+    let wrap = |q: DVec2| match region {
+        Region::Rectangle {
+            lo,
+            hi,
+            periodic_x: true,
+        } => DVec2::new(lo.x + (q.x - lo.x).rem_euclid(hi.x - lo.x), q.y),
+        _ => q,
+    };
+    Packing {
+        pos: soft.pos.iter().map(|q| wrap(*q) * d0).collect(),
+        radius: soft.rad.iter().map(|r| r * d0).collect(),
+        lining: fixed,
+        region: v.region,
+        stats,
+    }
+}
+
+fn set_scale(soft: &mut Soft, base: &[f64], s: f64) {
+    let fixed = soft.fixed;
+    for (r, b) in soft.rad[fixed..].iter_mut().zip(base) {
+        *r = b * s;
+    }
+}
+
+/// Indices of `pos` in cell order.
+fn spatial_order(pos: &[DVec2], region: &Region) -> Vec<u32> {
+    let (lo, hi) = region.bounds();
+    CellGrid::build(pos, lo, hi, 4.0, region.period_x())
+        .order()
+        .to_vec()
+}
+
+/// The region with every length multiplied by `f`.
+pub fn scale_region(r: &Region, f: f64) -> Region {
+    match *r {
+        Region::Annulus {
+            centre,
+            r_in,
+            r_out,
+        } => Region::Annulus {
+            centre: centre * f,
+            r_in: r_in * f,
+            r_out: r_out * f,
+        },
+        Region::Disk { centre, radius } => Region::Disk {
+            centre: centre * f,
+            radius: radius * f,
+        },
+        Region::Rectangle { lo, hi, periodic_x } => Region::Rectangle {
+            lo: lo * f,
+            hi: hi * f,
+            periodic_x,
+        },
+    }
+}
