@@ -35,8 +35,10 @@ pub struct Summary {
     pub neighbour_builds: u64,
     /// Frames written.
     pub frames: usize,
-    /// Fingerprint of the final state (`grains_dem::diagnostics::state_hash`), as hex.
-    pub state_hash: String,
+    /// Fingerprint of the final state, as hex (DEM: `grains_dem::diagnostics::state_hash`);
+    /// equal fingerprints mean bitwise-equal runs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub state_hash: Option<String>,
     /// Scenario-specific figures.
     pub figures: serde_json::Map<String, serde_json::Value>,
     /// Validation checks.

@@ -228,7 +228,7 @@ pub fn run(
         particle_steps_per_s: n as f64 * stepped as f64 / wall.max(1e-12),
         neighbour_builds: state.contacts.builds,
         frames: frames.count(),
-        state_hash: format!("{:016x}", diagnostics::state_hash(&state)),
+        state_hash: Some(format!("{:016x}", diagnostics::state_hash(&state))),
         figures: figures(scenario, &setup, &state, &final_diag),
         checks: checks.clone(),
     };
