@@ -4,6 +4,8 @@ mod bench;
 mod dem;
 mod interrupt;
 mod mpm;
+mod pack_cmd;
+mod analyze_cmd;
 mod progress;
 mod summary;
 
@@ -61,6 +63,28 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Generate a dense packing from a spec (TOML); writes packing.txt, a frame, plots, summary.json.
+    Pack {
+        /// Packing spec (TOML).
+        spec: PathBuf,
+        /// Output directory (default: runs/<spec name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+    /// Analyse a packing file (`x y r`) or a DEM frame (.vtp): psi6, contacts, fabric, sizes.
+    Analyze {
+        /// Packing file or VTP frame.
+        file: PathBuf,
+        /// Output directory (default: runs/analyze_<file stem>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Print the figures as JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Measure speed.
     Bench {
         #[command(subcommand)]
@@ -96,6 +120,8 @@ fn main() -> ExitCode {
         } => cmd_resume(&dir, threads, stop_at_step),
         Command::Check { scenario, json } => cmd_check(&scenario, json),
         Command::Bench { what } => bench::cmd_bench(what),
+        Command::Pack { spec, out, threads } => pack_cmd::cmd_pack(&spec, out, threads),
+        Command::Analyze { file, out, json } => analyze_cmd::cmd_analyze(&file, out, json),
     }
 }
 

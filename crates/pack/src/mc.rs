@@ -291,23 +291,23 @@ impl Ctx<'_> {
             let a = std::f64::consts::TAU * rng.random::<f64>();
             let q = d.pos + self.step * rng.random::<f64>().sqrt() * DVec2::from_angle(a);
             t.tried += 1;
-            if self.grid.coords(q) == (cx, cy) && self.room(own, near, k, q) >= d.r() {
+            if self.grid.coords(q) == (cx, cy) && self.fits(own, near, k, q, d.r()) {
                 own[k].pos = q;
                 t.moved += 1;
             }
-            // Size exchange with another mobile disk of the cell.
+            // Size exchange with another mobile disk of the cell: only the disk that
+            // becomes larger can collide, so only it is tested.
             if own.len() > 1 {
                 let m = (k + 1 + rng.random_range(0..own.len() - 1)) % own.len();
-                if own[m].mobile && (own[m].base - own[k].base).abs() > 1e-12 {
+                if own[m].mobile && own[m].base != own[k].base {
                     t.swaps_tried += 1;
                     let (bk, sk, bm, sm) = (own[k].base, own[k].scale, own[m].base, own[m].scale);
                     own[k].base = bm;
                     own[k].scale = sm;
                     own[m].base = bk;
                     own[m].scale = sk;
-                    let ok = self.room(own, near, k, own[k].pos) >= own[k].r()
-                        && self.room(own, near, m, own[m].pos) >= own[m].r();
-                    if ok {
+                    let grown = if bm * sm > bk * sk { k } else { m };
+                    if self.fits(own, near, grown, own[grown].pos, own[grown].r()) {
                         t.swapped += 1;
                     } else {
                         own[k].base = bk;
@@ -321,11 +321,29 @@ impl Ctx<'_> {
             let d = own[k];
             let want = (d.scale * (1.0 + self.rate)).min(self.target);
             if want > d.scale {
-                let room = self.room(own, near, k, d.pos) / d.base;
-                own[k].scale = want.min(room).max(d.scale);
+                if self.fits(own, near, k, d.pos, d.base * want) {
+                    own[k].scale = want;
+                } else {
+                    let room = self.room(own, near, k, d.pos) / d.base;
+                    own[k].scale = want.min(room).max(d.scale);
+                }
             }
         }
         t
+    }
+
+    /// Whether a disk of radius `r` at `q` clears the walls, the other disks of its
+    /// cell (`own`, except `k`) and the neighbours.
+    #[inline]
+    fn fits(&self, own: &[Disk], near: &[Disk], k: usize, q: DVec2, r: f64) -> bool {
+        if self.region.boundary_distance(q) < r {
+            return false;
+        }
+        let clear = |o: &Disk| {
+            let s = r + o.r();
+            self.region.delta(q, o.pos).length_squared() >= s * s
+        };
+        own.iter().enumerate().all(|(m, o)| m == k || clear(o)) && near.iter().all(clear)
     }
 
     /// The largest radius a disk at `q` could have, given the walls, the other disks of

@@ -1,0 +1,166 @@
+//! `grains pack` and `grains analyze` end to end: bad specs are refused with nothing
+//! written, a small packing writes every output, is the same on 1 and 2 threads, and
+//! reads back through `grains analyze` and a DEM scenario.
+
+use std::path::Path;
+use std::process::Command;
+
+const SPEC: &str = r#"
+name = "tiny"
+seed = 3
+
+[domain]
+shape = "rectangle"
+width = 0.02
+height = 0.02
+periodic_x = true
+
+[sizes]
+distribution = "gaussian"
+d0 = 1.0e-3
+delta = 0.113
+
+[protocol]
+rate = 2e-3
+target_fraction = 0.8
+
+[[check]]
+figure = "packing_fraction_bulk"
+at_least = 0.8
+"#;
+
+fn grains(dir: &Path, args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_grains"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("run grains");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn pack(dir: &Path, text: &str, threads: &str) -> (i32, String) {
+    std::fs::write(dir.join("spec.toml"), text).unwrap();
+    let (code, _, err) = grains(
+        dir,
+        &["pack", "spec.toml", "--out", "out", "--threads", threads],
+    );
+    (code, err)
+}
+
+#[test]
+fn bad_specs_are_refused_without_output() {
+    let cases = [
+        ("delta = 0.113", "delta = 0.9", "sizes.delta = 0.9"),
+        ("d0 = 1.0e-3", "d0 = -1.0e-3", "sizes.d0 = -0.001"),
+        (
+            "target_fraction = 0.8",
+            "target_fraction = 0.95",
+            "protocol.target_fraction = 0.95",
+        ),
+        ("width = 0.02", "width = 0.001", "domain.width = 0.001"),
+        ("rate = 2e-3", "rate = 0.0", "protocol.rate = 0"),
+        (
+            "figure = \"packing_fraction_bulk\"",
+            "figure = \"nope\"",
+            "check[0].figure",
+        ),
+        ("seed = 3", "seed = 3\nbogus = 1", "bogus"),
+    ];
+    for (from, to, expect) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let (code, err) = pack(dir.path(), &SPEC.replace(from, to), "1");
+        assert_eq!(code, 1, "{to}: {err}");
+        assert!(err.contains(expect), "{to}: {err}");
+        assert_eq!(
+            err.trim().lines().filter(|l| l.contains("error")).count(),
+            1,
+            "{err}"
+        );
+        assert!(!dir.path().join("out").exists(), "{to}: output written");
+    }
+    let annulus = SPEC.replace(
+        "shape = \"rectangle\"\nwidth = 0.02\nheight = 0.02\nperiodic_x = true",
+        "shape = \"annulus\"\nr_in = 0.01\nr_out = 0.009",
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let (code, err) = pack(dir.path(), &annulus, "1");
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("domain.r_out = 0.009"), "{err}");
+}
+
+#[test]
+fn small_packing_writes_everything_and_is_thread_independent() {
+    let one = tempfile::tempdir().unwrap();
+    let two = tempfile::tempdir().unwrap();
+    let (code, err) = pack(one.path(), SPEC, "1");
+    assert_eq!(code, 0, "{err}");
+    let (code, err) = pack(two.path(), SPEC, "2");
+    assert_eq!(code, 0, "{err}");
+    let a = std::fs::read_to_string(one.path().join("out/packing.txt")).unwrap();
+    let b = std::fs::read_to_string(two.path().join("out/packing.txt")).unwrap();
+    assert!(a == b, "packing differs between 1 and 2 threads");
+    assert!(a.starts_with("# grains pack: tiny"));
+    assert!(a.contains("# domain = rectangle"));
+    for f in [
+        "summary.json",
+        "spec.toml",
+        "frames/packing.vtp",
+        "plots/psi6_map.png",
+        "plots/psi6_cdf.png",
+        "plots/size_pdf.png",
+        "plots/size_cdf.png",
+        "plots/rose.png",
+    ] {
+        assert!(one.path().join("out").join(f).exists(), "missing {f}");
+    }
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(one.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    for k in [
+        "particles",
+        "mean_diameter",
+        "polydispersity",
+        "packing_fraction_bulk",
+        "psi6_local_mean_all",
+        "psi6_local_mean_interior",
+        "psi6_global_interior",
+        "mean_coordination",
+        "fabric_anisotropy",
+        "wall_time_s",
+    ] {
+        assert!(summary[k].is_number(), "summary.json {k}: {}", summary[k]);
+    }
+    let d0 = summary["mean_diameter"].as_f64().unwrap();
+    assert!((d0 / 1e-3 - 1.0).abs() < 0.06, "d0 {d0}");
+    assert!(summary["packing_fraction_bulk"].as_f64().unwrap() >= 0.8);
+
+    // The packing file reads back through analyze with the same figures.
+    let (code, out, err) = grains(
+        one.path(),
+        &["analyze", "out/packing.txt", "--out", "an", "--json"],
+    );
+    assert_eq!(code, 0, "{err}");
+    let again: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for k in [
+        "particles",
+        "psi6_local_mean_interior",
+        "psi6_global_interior",
+        "mean_coordination",
+        "packing_fraction_bulk",
+    ] {
+        let (x, y) = (again[k].as_f64().unwrap(), summary[k].as_f64().unwrap());
+        assert!((x - y).abs() <= 1e-9 * y.abs().max(1.0), "{k}: {x} vs {y}");
+    }
+    let (code, _, err) = grains(
+        one.path(),
+        &["analyze", "out/frames/packing.vtp", "--out", "an2"],
+    );
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = grains(one.path(), &["analyze", "missing.txt"]);
+    assert_eq!(code, 1, "{err}");
+}
