@@ -370,12 +370,22 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
     fn scatter(&self, b: &mut Block, c: &mut Chunk) {
         let n = b.len.min(BLOCK);
         let (first, end) = (c.range.start, c.range.end);
+        // A block holds rows in order, so the row owner's sums stay in registers until
+        // the owner changes.
+        let (mut owner, mut f_own, mut t_own) = (usize::MAX, DVec2::ZERO, 0.0);
         for t in 0..n {
             let (i, j, k) = (b.i[t] as usize, b.j[t] as usize, b.entry[t] as usize);
+            if i != owner {
+                if owner != usize::MAX {
+                    c.force[owner - first] += f_own;
+                    c.torque[owner - first] += self.radius[owner] * t_own;
+                }
+                (owner, f_own, t_own) = (i, DVec2::ZERO, 0.0);
+            }
             let fv = DVec2::new(b.fx[t], b.fy[t]);
             c.shear[k] = b.xi[t];
-            c.force[i - first] += fv;
-            c.torque[i - first] += self.radius[i] * b.ft[t];
+            f_own += fv;
+            t_own += b.ft[t];
             if j < end {
                 c.force[j - first] -= fv;
                 c.torque[j - first] += self.radius[j] * b.ft[t];
@@ -383,6 +393,10 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
                 c.fpair[k] = fv;
                 c.ftan[k] = b.ft[t];
             }
+        }
+        if owner != usize::MAX {
+            c.force[owner - first] += f_own;
+            c.torque[owner - first] += self.radius[owner] * t_own;
         }
         b.len = 0;
     }
