@@ -11,7 +11,7 @@ use crate::nodes::{Global, Kin, Node, Patch};
 use crate::particles::{strip_columns, Layout, Particles};
 use crate::setup::{Motion, Setup, UpdateScheme};
 use crate::shape::{Bspline2, Gimp, Kernel, Linear, ShapeFunction};
-use crate::transfer::{self, Place, Points, Seen, Source, View};
+use crate::transfer::{self, Place, Points, Seen, Source, Stencil, View};
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -45,6 +45,7 @@ pub struct Solver {
     /// Sums over bodies (only with more than one body).
     pub global: Option<Global>,
     next: Vec<DVec2>,
+    stencils: Vec<Stencil>,
 }
 
 impl Solver {
@@ -102,7 +103,7 @@ fn step_with<K: Kernel>(setup: &Setup, s: &mut State, w: &mut Solver) -> Result<
     grid_velocities(setup, w);
     let seen = g2p::<K>(setup, &mut s.particles, w);
     if setup.scheme == UpdateScheme::Musl {
-        remap::<K>(setup, &s.particles, w);
+        remap::<K>(&s.particles, w);
         touch = merge(touch, correct(setup, w, Pass::Interpolated, true));
         grid_velocities(setup, w);
         stress_last::<K>(setup, &mut s.particles, w);
@@ -219,23 +220,43 @@ fn p2g<K: Kernel>(setup: &Setup, p: &Particles, w: &mut Solver) {
     let force = matches!(setup.scheme, UpdateScheme::Usl | UpdateScheme::Musl);
     let grad = setup.multi_body();
     let rigid = &w.rigid;
+    w.stencils.resize(p.len(), Stencil::default());
     for colour in 0..2 {
         let layout = &w.layout;
+        let mut caches = split_cache(&mut w.stencils, layout);
         views(&mut w.patches, layout, colour)
+            .into_iter()
+            .map(|(k, view)| (k, view, caches[k].take().expect("one piece per strip")))
+            .collect::<Vec<_>>()
             .into_par_iter()
-            .for_each(|(k, mut view)| {
+            .for_each(|(k, mut view, cache)| {
                 let (b, _, start, end) = layout.strips[k];
                 let r = (start, end);
+                let v = &mut view;
                 match (force && !rigid[b as usize], grad) {
-                    (true, true) => transfer::scatter::<K, true, true>(&place, src, r, &mut view),
-                    (true, false) => transfer::scatter::<K, true, false>(&place, src, r, &mut view),
-                    (false, true) => transfer::scatter::<K, false, true>(&place, src, r, &mut view),
+                    (true, true) => transfer::scatter::<K, true, true>(&place, src, r, v, cache),
+                    (true, false) => transfer::scatter::<K, true, false>(&place, src, r, v, cache),
+                    (false, true) => transfer::scatter::<K, false, true>(&place, src, r, v, cache),
                     (false, false) => {
-                        transfer::scatter::<K, false, false>(&place, src, r, &mut view)
+                        transfer::scatter::<K, false, false>(&place, src, r, v, cache)
                     }
                 }
             });
     }
+}
+
+/// The stencil cache split into one piece per strip of the layout.
+fn split_cache<'a>(cache: &'a mut [Stencil], layout: &Layout) -> Vec<Option<&'a mut [Stencil]>> {
+    let mut rest = cache;
+    layout
+        .strips
+        .iter()
+        .map(|&(_, _, start, end)| {
+            let (a, r) = std::mem::take(&mut rest).split_at_mut(end - start);
+            rest = r;
+            Some(a)
+        })
+        .collect()
 }
 
 /// One contact correction: sums the bodies (if several), then corrects each free body
@@ -293,9 +314,9 @@ fn stress_first<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt:
             k.v = if n.m > 0.0 { n.p / n.m } else { DVec2::ZERO };
         }
     });
-    let place = place(setup);
     for colour in 0..2 {
         let layout = &w.layout;
+        let stencils = &w.stencils;
         let vol0 = &p.vol0;
         let mut pts = split_points(
             (&mut p.pos, &mut p.vel, &mut p.def, &mut p.stress),
@@ -308,11 +329,12 @@ fn stress_first<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt:
             .map(|(k, view)| (*k, view, pts[*k].take()))
             .collect();
         jobs.into_par_iter().for_each(|(k, view, pts)| {
-            let (b, _, start, _) = layout.strips[k];
+            let (b, _, start, end) = layout.strips[k];
             let body = &setup.bodies[b as usize];
             if let (Motion::Free, Some(mut pts)) = (body.motion, pts) {
                 let m = &setup.materials[body.material];
-                transfer::stress_and_force::<K>(&place, m, dt, &vol0[start..], &mut pts, view);
+                let cache = &stencils[start..end];
+                transfer::stress_and_force::<K>(m, dt, &vol0[start..], &mut pts, view, cache);
             }
         });
     }
@@ -415,6 +437,7 @@ fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) -> Seen {
     }
     let layout = &w.layout;
     let patches = &w.patches;
+    let stencils = &w.stencils;
     let next = musl.then_some(&mut w.next[..]);
     let pts = split_points(fields(p), layout, next);
     let seen: Vec<(u16, Seen)> = pts
@@ -422,11 +445,12 @@ fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) -> Seen {
         .enumerate()
         .map(|(k, pts)| {
             let mut pts = pts.expect("one piece per strip");
-            let (b, strip, _, _) = layout.strips[k];
+            let (b, strip, start, end) = layout.strips[k];
             let body = &setup.bodies[b as usize];
             let patch = &patches[b as usize];
             let view = (&patch.kin[..], patch.lo, patch.size[1]);
             let strip = strip as usize;
+            let cache = &stencils[start..end];
             let seen = match body.motion {
                 Motion::Prescribed(v) => {
                     transfer::move_rigid(&place, hi, v, setup.dt, strip, &mut pts)
@@ -445,6 +469,7 @@ fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) -> Seen {
                             view,
                             strip,
                             &mut pts,
+                            cache,
                         ),
                         UpdateScheme::Usavg => transfer::gather::<K, true>(
                             &place,
@@ -455,6 +480,7 @@ fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) -> Seen {
                             view,
                             strip,
                             &mut pts,
+                            cache,
                         ),
                         _ => transfer::gather::<K, false>(
                             &place,
@@ -465,6 +491,7 @@ fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) -> Seen {
                             view,
                             strip,
                             &mut pts,
+                            cache,
                         ),
                     }
                 }
@@ -485,41 +512,43 @@ fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) -> Seen {
 }
 
 /// MUSL: the updated particle momenta mapped back to the grid at the old positions.
-fn remap<K: Kernel>(setup: &Setup, p: &Particles, w: &mut Solver) {
+fn remap<K: Kernel>(p: &Particles, w: &mut Solver) {
     w.patches.par_iter_mut().for_each(|patch| {
         for n in patch.nodes.iter_mut() {
             n.p = DVec2::ZERO;
         }
     });
-    let place = place(setup);
     let src = source(p);
     for colour in 0..2 {
         let layout = &w.layout;
+        let stencils = &w.stencils;
         views(&mut w.patches, layout, colour)
             .into_par_iter()
             .for_each(|(k, mut view)| {
                 let (_, _, start, end) = layout.strips[k];
-                transfer::scatter_momentum::<K>(&place, src, (start, end), &mut view);
+                let cache = &stencils[start..end];
+                transfer::scatter_momentum::<K>(src, (start, end), &mut view, cache);
             });
     }
 }
 
 /// MUSL: stress from the re-mapped grid velocities, then the points move.
 fn stress_last<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) {
-    let place = place(setup);
     let layout = &w.layout;
     let patches = &w.patches;
+    let stencils = &w.stencils;
     let pts = split_points(fields(p), layout, Some(&mut w.next[..]));
     pts.into_par_iter().enumerate().for_each(|(k, pts)| {
         let mut pts = pts.expect("one piece per strip");
-        let (b, _, _, _) = layout.strips[k];
+        let (b, _, start, end) = layout.strips[k];
         let body = &setup.bodies[b as usize];
         let patch = &patches[b as usize];
         match body.motion {
             Motion::Free => {
                 let m = &setup.materials[body.material];
                 let view = (&patch.kin[..], patch.lo, patch.size[1]);
-                transfer::gather_stress::<K>(&place, m, setup.dt, view, &mut pts);
+                let cache = &stencils[start..end];
+                transfer::gather_stress::<K>(m, setup.dt, view, &mut pts, cache);
             }
             Motion::Prescribed(_) => {
                 let next = pts.next.take().expect("MUSL keeps the new positions apart");

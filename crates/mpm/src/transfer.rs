@@ -22,7 +22,9 @@ pub struct Place {
 }
 
 /// Weights of one point: 3 × 3 tensor-product stencil from stored node `(col, row)`.
-#[derive(Clone, Copy, Debug)]
+/// Computed once per step by the P2G scatter and kept: every later pass of the step
+/// sees the points at the same positions.
+#[derive(Clone, Copy, Debug, Default)]
 pub struct Stencil {
     /// First stored column.
     pub col: usize,
@@ -105,10 +107,12 @@ pub fn scatter[K: Kernel, const FORCE: bool, const GRAD: bool][K, FORCE, GRAD](
     src: Source,
     range: (usize, usize),
     view: &mut View,
+    cache: &mut [Stencil],
 ) {
     for i in range.0..range.1 {
         let x = src.pos[i];
         let s = place.stencil::<K>(x);
+        cache[i - range.0] = s;
         let m = src.mass[i];
         let mv = m * src.vel[i];
         let (sxx, syy, sxy) = if FORCE {
@@ -150,13 +154,13 @@ multiversion! {
 /// P2G of momentum alone (MUSL's re-map of the updated velocities) at the positions the
 /// step started from.
 pub fn scatter_momentum[K: Kernel][K](
-    place: &Place,
     src: Source,
     range: (usize, usize),
     view: &mut View,
+    cache: &[Stencil],
 ) {
     for i in range.0..range.1 {
-        let s = place.stencil::<K>(src.pos[i]);
+        let s = cache[i - range.0];
         let mv = src.mass[i] * src.vel[i];
         let first = view.at(&s, 0, 0);
         for a in 0..K::N {
@@ -210,15 +214,15 @@ multiversion! {
 /// USF: gathers the strain rate from the interpolated velocities, updates the stress,
 /// then scatters the internal force −V σ·∇S, in one pass over the strip.
 pub fn stress_and_force[K: Kernel][K](
-    place: &Place,
     material: &Material,
     dt: f64,
     vol0: &[f64],
     pts: &mut Points,
     view: &mut View,
+    cache: &[Stencil],
 ) {
     for i in 0..pts.pos.len() {
-        let s = place.stencil::<K>(pts.pos[i]);
+        let s = cache[i];
         let l = velocity_gradient::<K>(&s, view.kin, view.col0, view.row0, view.rows);
         material.update(l, dt, &mut pts.def[i], &mut pts.stress[i]);
         let v = vol0[i] * pts.def[i].determinant();
@@ -299,13 +303,14 @@ pub fn gather[K: Kernel, const STRESS: bool][K, STRESS](
     patch: (&[Kin], [usize; 2], usize),
     strip: usize,
     pts: &mut Points,
+    cache: &[Stencil],
 ) -> Seen {
     let (kin, lo, rows) = patch;
     let (dt, dt_stress) = dt;
     let mut seen = Seen::empty();
     for i in 0..pts.pos.len() {
         let x = pts.pos[i];
-        let s = place.stencil::<K>(x);
+        let s = cache[i];
         let mut v = DVec2::ZERO;
         let mut a_sum = DVec2::ZERO;
         let mut l = DMat2::ZERO;
@@ -346,11 +351,11 @@ multiversion! {
 /// MUSL's last pass: the strain rate from the re-mapped velocities at the old positions,
 /// then the positions move on.
 pub fn gather_stress[K: Kernel][K](
-    place: &Place,
     material: &Material,
     dt: f64,
     patch: (&[Kin], [usize; 2], usize),
     pts: &mut Points,
+    cache: &[Stencil],
 ) {
     let (kin, lo, rows) = patch;
     let next = pts
@@ -358,7 +363,7 @@ pub fn gather_stress[K: Kernel][K](
         .as_deref()
         .expect("MUSL keeps the new positions apart");
     for i in 0..pts.pos.len() {
-        let s = place.stencil::<K>(pts.pos[i]);
+        let s = cache[i];
         let l = velocity_gradient::<K>(&s, kin, lo[0], lo[1], rows);
         material.update(l, dt, &mut pts.def[i], &mut pts.stress[i]);
         pts.pos[i] = next[i];
