@@ -1,11 +1,11 @@
 //! `grains`: one scenario file in; ParaView frames, history, plots and a summary out.
 
+mod analyze_cmd;
 mod bench;
 mod dem;
 mod interrupt;
 mod mpm;
 mod pack_cmd;
-mod analyze_cmd;
 mod progress;
 mod summary;
 
@@ -175,7 +175,10 @@ fn engine_of(src: &Source) -> Result<Engine, String> {
         None => Ok(Engine::Dem),
         Some(toml::Value::String(s)) if s == "dem" => Ok(Engine::Dem),
         Some(toml::Value::String(s)) if s == "mpm" => Ok(Engine::Mpm),
-        Some(other) => Err(format!("{}: engine = {other}: must be one of \"dem\", \"mpm\"", src.origin)),
+        Some(other) => Err(format!(
+            "{}: engine = {other}: must be one of \"dem\", \"mpm\"",
+            src.origin
+        )),
     }
 }
 
@@ -195,7 +198,13 @@ fn cmd_resume(dir: &Path, threads: Option<usize>, stop_at_step: Option<u64>) -> 
     interrupt::install();
     match engine {
         Engine::Dem => dem::cmd_resume(dir, threads, stop_at_step),
-        other => fail(1, &format!("{}: resume is supported for engine = \"dem\" runs, this one is {other:?}", dir.display())),
+        other => fail(
+            1,
+            &format!(
+                "{}: resume is supported for engine = \"dem\" runs, this one is {other:?}",
+                dir.display()
+            ),
+        ),
     }
 }
 
@@ -220,7 +229,14 @@ fn cmd_run(
     match engine {
         Engine::Dem => {
             interrupt::install();
-            dem::cmd_run(&src.text, &src.origin, &src.base, out, threads, stop_at_step)
+            dem::cmd_run(
+                &src.text,
+                &src.origin,
+                &src.base,
+                out,
+                threads,
+                stop_at_step,
+            )
         }
         Engine::Mpm => mpm::cmd_run(&src.text, &src.origin, &src.base, out, threads),
     }
