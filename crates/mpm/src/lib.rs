@@ -30,6 +30,7 @@ pub mod setup;
 pub mod shape;
 mod simd;
 pub mod step;
+mod tasks;
 pub mod timestep;
 pub mod transfer;
 
