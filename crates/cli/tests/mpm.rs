@@ -167,6 +167,22 @@ fn a_short_bounce_writes_everything_and_passes_its_checks() {
 }
 
 #[test]
+fn a_point_leaving_the_grid_stops_the_run_with_exit_3() {
+    // No walls on the right: the cylinder flies out of the grid.
+    let text = BASE
+        .replace("right = { mu = 0.1 }", "")
+        .replace("velocity = [0.1, 0.1]", "velocity = [1.0, 0.0]");
+    let (code, err, dir) = run(&text);
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("outside the grid"), "{err}");
+    let out = dir.path().join("out");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["status"], "unstable");
+    assert!(out.join("frames/series.pvd").exists() && out.join("history.csv").exists());
+}
+
+#[test]
 fn check_prints_the_stable_step() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("s.toml");
