@@ -124,3 +124,47 @@ fn pause_and_resume_match_a_straight_run() {
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("not a grains checkpoint"), "{err}");
 }
+
+#[test]
+fn sigterm_writes_a_checkpoint_and_resume_goes_on_exactly() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("ck.toml");
+    // Long enough that the signal always arrives mid-run.
+    std::fs::write(
+        &file,
+        SCENARIO.replace("duration = 0.02", "duration = 50.0"),
+    )
+    .unwrap();
+    let (a, b) = (tmp.path().join("signalled"), tmp.path().join("straight"));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_grains"))
+        .args(["run", file.to_str().unwrap(), "--out", a.to_str().unwrap()])
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    let s = summary(&a);
+    assert_eq!(s["status"], "interrupted");
+    let stop = s["steps"].as_u64().unwrap() + 123;
+    let stop = stop.to_string();
+    let (code, err) = grains(&["resume", a.to_str().unwrap(), "--stop-at-step", &stop]);
+    assert_eq!(code, 0, "{err}");
+    let (code, err) = grains(&[
+        "run",
+        file.to_str().unwrap(),
+        "--out",
+        b.to_str().unwrap(),
+        "--stop-at-step",
+        &stop,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (sa, sb) = (summary(&a), summary(&b));
+    assert_eq!(sa["steps"], sb["steps"]);
+    assert_eq!(sa["state_hash"], sb["state_hash"]);
+}
