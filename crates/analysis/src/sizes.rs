@@ -50,7 +50,7 @@ pub fn pdf(values: &[f64], bins: usize) -> (Vec<f64>, Vec<f64>) {
     let bins = bins.max(1);
     let lo = values.iter().cloned().fold(f64::INFINITY, f64::min);
     let hi = values.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-    if values.is_empty() || !(hi > lo) {
+    if values.is_empty() || hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
         return (
             values.first().map(|v| vec![*v]).unwrap_or_default(),
             vec![f64::NAN; values.len().min(1)],
