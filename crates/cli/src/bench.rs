@@ -219,7 +219,7 @@ pub fn lammps_bed(path: &std::path::Path, tile: usize) -> Result<(Setup, Particl
     let mut p = Particles::default();
     for k in 0..tile {
         for a in &data.atoms {
-            if !(a.diameter > 0.0) {
+            if !(a.diameter.is_finite() && a.diameter > 0.0) {
                 return Err(format!(
                     "{}: atom {} has diameter {}: must be > 0",
                     path.display(),
