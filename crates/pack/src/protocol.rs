@@ -19,6 +19,8 @@ use std::time::Instant;
 
 /// Disks drawn for deposition, relative to the number the region holds at φ = 0.92.
 const DRAW_MARGIN: f64 = 1.05;
+/// Sweeps between progress lines of the Monte Carlo stage.
+const PROGRESS_EVERY: u64 = 1000;
 /// Sweeps between jamming tests of the Monte Carlo stage.
 const STALL_WINDOW: u64 = 200;
 /// Growth over a window, relative to the nominal `rate × window`, below which the
@@ -138,6 +140,16 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
     while hd.sweeps < p.max_sweeps {
         let st = hd.sweep(&region, p.rate, cap);
         swap = st.swap_acceptance;
+        if hd.sweeps.is_multiple_of(PROGRESS_EVERY) {
+            say(format!(
+                "growth: sweep {} after {:.1} s, mean scale {:.5}, acceptance {:.2}, swaps {:.2}",
+                hd.sweeps,
+                t1.elapsed().as_secs_f64(),
+                st.mean_scale,
+                st.acceptance,
+                st.swap_acceptance
+            ));
+        }
         if st.min_scale >= cap - 1e-12 {
             break;
         }

@@ -70,7 +70,7 @@ fn finite_positive(key: &str, v: f64) -> Result<(), SpecError> {
 }
 
 fn in_range(key: &str, v: f64, lo: f64, hi: f64, what: &str) -> Result<(), SpecError> {
-    if v.is_finite() && v >= lo && v <= hi {
+    if v.is_finite() && (lo..=hi).contains(&v) {
         Ok(())
     } else {
         Err(err(key, v, format!("must be in [{lo}, {hi}]{what}")))
@@ -107,7 +107,7 @@ pub fn validate(spec: &PackSpec) -> Result<Validated, SpecError> {
             "must be in (0, 0.01] (relative radius growth per sweep)",
         ));
     }
-    if !(p.start_fraction.is_finite() && p.start_fraction >= 0.3 && p.start_fraction <= 0.8) {
+    if !(p.start_fraction.is_finite() && (0.3..=0.8).contains(&p.start_fraction)) {
         return Err(err(
             "protocol.start_fraction",
             p.start_fraction,
@@ -131,7 +131,7 @@ pub fn validate(spec: &PackSpec) -> Result<Validated, SpecError> {
     in_range("protocol.max_swell", p.max_swell, 0.0, 0.5, "")?;
     in_range("protocol.deposit_scale", p.deposit_scale, 0.5, 1.0, "")?;
     let ratio = spec.lining.diameter_ratio;
-    if !(ratio.is_finite() && ratio >= 0.2 && ratio <= 1.0) {
+    if !(ratio.is_finite() && (0.2..=1.0).contains(&ratio)) {
         return Err(err(
             "lining.diameter_ratio",
             ratio,
