@@ -242,6 +242,15 @@ fn simulate(
                 let smp = sample(&d, state.time, rec.samples.last());
                 if let Some(k) = sink.as_deref_mut() {
                     k.history.push(&row(&state, &d, &smp))?;
+                    // The moment of largest stored energy: where load paths show (Fig. 7).
+                    let file = "points_peak_strain.png";
+                    match k.snapshots.iter_mut().find(|(f, _)| f == file) {
+                        Some((_, snap)) if snap.strain >= d.strain => {}
+                        Some((_, snap)) => *snap = snapshot(&state, state.time, d.strain),
+                        None => k
+                            .snapshots
+                            .push((file.into(), snapshot(&state, state.time, d.strain))),
+                    }
                     for b in 0..setup.bodies.len() {
                         if !rec.in_impact(b) {
                             continue;
@@ -284,6 +293,8 @@ fn simulate(
         if unstable.is_none() && k.last_frame != state.step {
             k.frames.write(setup, &state, &solver)?;
         }
+        k.snapshots
+            .push(("points_final.png".into(), snapshot(&state, state.time, 0.0)));
     }
     Ok(Simulated {
         record: rec,
