@@ -2,6 +2,7 @@
 
 mod analyze_cmd;
 mod bench;
+mod blast;
 mod dem;
 mod interrupt;
 mod mpm;
@@ -97,6 +98,7 @@ enum Command {
 enum Engine {
     Dem,
     Mpm,
+    FemDem,
 }
 
 /// Exit codes: 1 bad input (nothing written), 2 a check failed, 3 the run went unstable.
@@ -175,8 +177,9 @@ fn engine_of(src: &Source) -> Result<Engine, String> {
         None => Ok(Engine::Dem),
         Some(toml::Value::String(s)) if s == "dem" => Ok(Engine::Dem),
         Some(toml::Value::String(s)) if s == "mpm" => Ok(Engine::Mpm),
+        Some(toml::Value::String(s)) if s == "fem_dem" => Ok(Engine::FemDem),
         Some(other) => Err(format!(
-            "{}: engine = {other}: must be one of \"dem\", \"mpm\"",
+            "{}: engine = {other}: must be one of \"dem\", \"mpm\", \"fem_dem\"",
             src.origin
         )),
     }
@@ -239,6 +242,7 @@ fn cmd_run(
             )
         }
         Engine::Mpm => mpm::cmd_run(&src.text, &src.origin, &src.base, out, threads),
+        Engine::FemDem => blast::cmd_run(&src.text, &src.origin, &src.base, out, threads),
     }
 }
 
@@ -250,6 +254,7 @@ fn cmd_check(path: &Path, json: bool) -> ExitCode {
     match engine_of(&src) {
         Ok(Engine::Dem) => dem::check::cmd_check(&src.text, &src.origin, &src.base, json),
         Ok(Engine::Mpm) => mpm::cmd_check(&src.text, &src.origin, &src.base, json),
+        Ok(Engine::FemDem) => blast::check::cmd_check(&src.text, &src.origin, &src.base, json),
         Err(e) => fail(1, &e),
     }
 }

@@ -73,8 +73,11 @@ impl Default for Viscosity {
     }
 }
 
-/// Deviatoric stress of the unreacted explosive: hypo-elastic (Jaumann rate) with a von
-/// Mises cap; both scale with 1 − λ, so the products carry none.
+/// Deviatoric stress: hypo-elastic (Jaumann rate) with a von Mises cap. By default it is
+/// the unreacted explosive's and scales with 1 − λ, so the products carry none; with
+/// `products = true` every element keeps it, as in xue-2019 Eq. A4, where the
+/// elements' "deformation force" acts beside the detonation pressure — it also keeps
+/// the Lagrangian mesh from shearing into slivers.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Strength {
@@ -82,6 +85,9 @@ pub struct Strength {
     pub shear_modulus: f64,
     /// Yield stress Y (Pa).
     pub yield_stress: f64,
+    /// Keep the deviatoric stress in the products too.
+    #[serde(default)]
+    pub products: bool,
 }
 
 /// Everything the charge's stages read.

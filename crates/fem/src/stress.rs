@@ -167,8 +167,9 @@ pub fn stress_forces(setup: &FemSetup, c: &mut Charge, dt: f64) -> Result<(), Br
                 let mut s1 = [0.0; 3];
                 let mut w_dev = 0.0;
                 if let Some(st) = strength {
-                    let g = (1.0 - lam) * st.shear_modulus;
-                    let y = (1.0 - lam) * st.yield_stress;
+                    let keep = if st.products { 1.0 } else { 1.0 - lam };
+                    let g = keep * st.shear_modulus;
+                    let y = keep * st.yield_stress;
                     let w = 0.5 * (lxy - lyx);
                     let mean = (dxx + dyy) / 3.0;
                     let mut s = [

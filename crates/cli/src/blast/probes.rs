@@ -1,0 +1,148 @@
+//! The figures and checks of a finished blast run: detonation arrival and energy
+//! conservation of the charge; ring-to-charge mass ratio, terminal band velocity and the
+//! classic Gurney velocity of the ring.
+
+use super::scenario::{CheckSpec, Scenario};
+use grains_core::checks::Check;
+use grains_core::history::History;
+use grains_fem::diagnostics::{arrival_error, arrival_profile, energies, fronts, ArrivalBin};
+use grains_fem::{Charge, FemSetup};
+use serde_json::{Map, Value};
+
+/// Radial range (in charge radii) and bins of the detonation-arrival check: the centre,
+/// where a diverging front is still forming over its first few elements, is left out.
+pub const ARRIVAL_RANGE: (f64, f64, usize) = (0.25, 0.95, 10);
+
+/// What the evaluation reads.
+pub struct Context<'a> {
+    /// The scenario.
+    pub scn: &'a Scenario,
+    /// Charge settings.
+    pub fem: &'a FemSetup,
+    /// Final charge.
+    pub charge: &'a Charge,
+    /// Initial total energy of the charge (J/m).
+    pub e0: f64,
+    /// The run's history.
+    pub history: &'a History,
+    /// Charge mass (kg/m).
+    pub charge_mass: f64,
+    /// Ring mass (kg/m), if any.
+    pub ring_mass: Option<f64>,
+}
+
+/// The classic cylindrical Gurney velocity √(2E)·(M/C + ½)^(−½), with √(2E) from the
+/// JWL energy E0/ρ0 (physics.md §2.1, the regression basis it recommends).
+pub fn gurney_velocity(fem: &FemSetup, fill_to_burster: f64) -> f64 {
+    gurney_constant(fem) / (fill_to_burster + 0.5).sqrt()
+}
+
+/// √(2E0/ρ0) (m/s).
+pub fn gurney_constant(fem: &FemSetup) -> f64 {
+    (2.0 * fem.explosive.specific_energy()).sqrt()
+}
+
+/// The paper's band velocity, if the scenario checks against one.
+pub fn band_reference(scn: &Scenario) -> Option<f64> {
+    scn.checks.iter().find_map(|c| match c {
+        CheckSpec::BandVelocity { expected, .. } => Some(*expected),
+        _ => None,
+    })
+}
+
+/// Mean of column `name` over the rows in the last `window` of the run's time.
+fn terminal(h: &History, name: &str, window: f64) -> f64 {
+    let (Some(t), Some(v)) = (h.column("time"), h.column(name)) else {
+        return f64::NAN;
+    };
+    let end = t.last().copied().unwrap_or(0.0);
+    let from = end * (1.0 - window);
+    let picked: Vec<f64> = t
+        .iter()
+        .zip(&v)
+        .filter(|(t, v)| **t >= from && v.is_finite())
+        .map(|(_, v)| *v)
+        .collect();
+    if picked.is_empty() {
+        f64::NAN
+    } else {
+        picked.iter().sum::<f64>() / picked.len() as f64
+    }
+}
+
+/// Checks, figures and the arrival profile.
+pub fn evaluate(cx: &Context) -> (Vec<Check>, Map<String, Value>, Vec<ArrivalBin>) {
+    let (fem, c) = (cx.fem, cx.charge);
+    let r = cx.scn.charge.radius;
+    let (lo, hi, bins) = ARRIVAL_RANGE;
+    let arrival = arrival_profile(fem, c, lo * r, hi * r, bins);
+    let (arrival_err, front_speed) = arrival_error(fem, &arrival);
+    let e = energies(fem, c);
+    let energy_err = e.balance(cx.e0).abs() / cx.e0;
+    let f = fronts(c);
+    let mut fig = Map::new();
+    fig.insert("explosive".into(), fem.explosive.name.clone().into());
+    fig.insert("charge_mass".into(), cx.charge_mass.into());
+    fig.insert("burnt_fraction_final".into(), f.burnt.into());
+    fig.insert("detonation_arrival_error".into(), arrival_err.into());
+    fig.insert("detonation_front_speed".into(), front_speed.into());
+    fig.insert("energy_conservation_error".into(), energy_err.into());
+    fig.insert("gurney_constant".into(), gurney_constant(fem).into());
+    let window = cx.scn.analysis.terminal_window;
+    let mut fb = f64::NAN;
+    if let Some(m) = cx.ring_mass {
+        fb = m / cx.charge_mass;
+        fig.insert("ring_mass".into(), m.into());
+        fig.insert("fill_to_burster_ratio".into(), fb.into());
+        fig.insert("gurney_velocity".into(), gurney_velocity(fem, fb).into());
+        let h = cx.history;
+        fig.insert(
+            "band_velocity_terminal".into(),
+            terminal(h, "band_velocity", window).into(),
+        );
+        fig.insert(
+            "spall_velocity_terminal".into(),
+            terminal(h, "spall_velocity", window).into(),
+        );
+        fig.insert(
+            "band_fraction_final".into(),
+            terminal(h, "band_fraction", window).into(),
+        );
+        fig.insert(
+            "mean_radial_velocity_terminal".into(),
+            terminal(h, "mean_radial_velocity", window).into(),
+        );
+    }
+    let mut checks = Vec::new();
+    for spec in &cx.scn.checks {
+        checks.push(match *spec {
+            CheckSpec::DetonationArrival { tolerance } => Check::at_most("detonation_arrival_error", arrival_err, tolerance).with_note(&format!(
+                "max over {bins} radial bins in [{lo}, {hi}]·R of |t − r/D_CJ|/(r/D_CJ); front = first time an element's \
+                 pressure reaches P_CJ/2; fitted front speed {front_speed:.0} m/s vs D_CJ {:.0} m/s",
+                fem.explosive.detonation_velocity
+            )),
+            CheckSpec::EnergyConservation { tolerance } => Check::at_most("energy_conservation_error", energy_err, tolerance).with_note(&format!(
+                "|kinetic + internal + unreleased chemical − initial| / initial at the end; burnt fraction {:.4}",
+                f.burnt
+            )),
+            CheckSpec::BandVelocity { expected, tolerance } => {
+                let v = terminal(cx.history, "band_velocity", window);
+                Check::relative("band_velocity_terminal", v, expected, tolerance).with_note(&format!(
+                    "mean radial velocity of the compact band over the last {:.0} % of the run vs the paper's FEM-DEM value; \
+                     classic Gurney √(2E0/ρ0)(F/B + ½)^-½ = {:.0} m/s at F/B = {fb:.3}",
+                    100.0 * window,
+                    gurney_velocity(fem, fb)
+                ))
+            }
+            CheckSpec::FillToBurster { expected, tolerance } => fill_to_burster_check(fb, expected, tolerance),
+        });
+    }
+    (checks, fig, arrival)
+}
+
+/// The mass-ratio check (also run by `grains check`).
+pub fn fill_to_burster_check(measured: f64, expected: f64, tolerance: f64) -> Check {
+    Check::relative("fill_to_burster_ratio", measured, expected, tolerance).with_note(
+        "ring mass (Σ ρπr² of the disks) over charge mass (ρ0 × mesh area), vs the paper's Table 2",
+    )
+}
