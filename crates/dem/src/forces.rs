@@ -272,6 +272,9 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
         c.force.fill(DVec2::ZERO);
         c.torque.fill(0.0);
         let mut b = Block::new();
+        // The fill count lives in a register: kept in the block it would go through
+        // memory on every entry, in one long dependent chain.
+        let mut len = 0usize;
         for i in c.range.clone() {
             let (pi, ri, imi, vi, si) = (
                 self.pos[i],
@@ -293,7 +296,7 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
                 let touching = (dist2 < rsum * rsum) & (dist2 > 0.0);
                 // Always < BLOCK (the block is flushed when full); the mask lets the
                 // compiler see it and drop thirteen index checks per entry.
-                let t = b.len & (BLOCK - 1);
+                let t = len & (BLOCK - 1);
                 let v = vi - self.vel[j];
                 b.entry[t] = k as u32;
                 b.i[t] = i as u32;
@@ -311,14 +314,20 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
                 b.spin[t] = si + rj * self.omega[j];
                 b.xi[t] = c.shear[k];
                 c.shear[k] = 0.0;
-                c.fpair[k] = DVec2::ZERO;
-                c.ftan[k] = 0.0;
-                b.len += touching as usize;
-                if b.len == BLOCK {
+                if j >= c.range.end {
+                    // Only cross-chunk entries carry their force out of the pass.
+                    c.fpair[k] = DVec2::ZERO;
+                    c.ftan[k] = 0.0;
+                }
+                len += touching as usize;
+                if len == BLOCK {
+                    b.len = len;
                     self.flush(&mut b, c);
+                    len = 0;
                 }
             }
         }
+        b.len = len;
         self.flush(&mut b, c);
     }
 
