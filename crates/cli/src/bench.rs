@@ -104,6 +104,7 @@ pub fn cmd_bench(what: BenchCommand) -> ExitCode {
             let particles = p.len();
             let mut state = State::new(&setup, p);
             let t0 = Instant::now();
+            let c0 = cpu_seconds();
             // Step from inside the pool: parallel passes then start on a worker thread
             // instead of waking the pool from outside three times a step.
             rayon::scope(|_| {
@@ -112,11 +113,18 @@ pub fn cmd_bench(what: BenchCommand) -> ExitCode {
                 }
             });
             let secs = t0.elapsed().as_secs_f64();
+            let cpu = c0.and_then(|c0| Some(cpu_seconds()? - c0));
             let rate = particles as f64 * steps as f64 / secs;
             println!("particles: {particles}");
             println!("steps: {steps}");
             println!("threads: {threads}");
             println!("wall time: {secs:.3} s");
+            if let Some(cpu) = cpu {
+                // Robust to other load on the machine: time the process was not running
+                // is not counted.
+                println!("cpu time: {cpu:.3} s");
+                println!("particle-steps per cpu-s: {:.4e}", particles as f64 * steps as f64 / cpu);
+            }
             println!("neighbour builds: {}", state.contacts.builds);
             let d = grains_dem::diagnostics::measure(&setup, &state);
             println!(
@@ -249,4 +257,15 @@ fn peak_memory_mb() -> Option<f64> {
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kb / 1024.0)
+}
+
+/// CPU time of this process, all threads (s), from /proc/self/stat (utime + stime, in
+/// clock ticks of 1/100 s); `None` where that file does not exist.
+pub fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the parenthesised command name; utime and stime are fields 14 and 15.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
 }

@@ -228,7 +228,6 @@ struct Block {
     params: [PairParams; BLOCK],
     dx: [f64; BLOCK],
     dy: [f64; BLOCK],
-    dist2: [f64; BLOCK],
     rsum: [f64; BLOCK],
     inv_msum: [f64; BLOCK],
     vx: [f64; BLOCK],
@@ -250,7 +249,6 @@ impl Block {
             params: [PairParams::default(); BLOCK],
             dx: [0.0; BLOCK],
             dy: [0.0; BLOCK],
-            dist2: [0.0; BLOCK],
             rsum: [0.0; BLOCK],
             inv_msum: [0.0; BLOCK],
             vx: [0.0; BLOCK],
@@ -272,6 +270,9 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
         c.force.fill(DVec2::ZERO);
         c.torque.fill(0.0);
         let mut b = Block::new();
+        // The fill count lives in a register: kept in the block it would go through
+        // memory on every entry, in one long dependent chain.
+        let mut len = 0usize;
         for i in c.range.clone() {
             let (pi, ri, imi, vi, si) = (
                 self.pos[i],
@@ -293,7 +294,7 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
                 let touching = (dist2 < rsum * rsum) & (dist2 > 0.0);
                 // Always < BLOCK (the block is flushed when full); the mask lets the
                 // compiler see it and drop thirteen index checks per entry.
-                let t = b.len & (BLOCK - 1);
+                let t = len & (BLOCK - 1);
                 let v = vi - self.vel[j];
                 b.entry[t] = k as u32;
                 b.i[t] = i as u32;
@@ -303,7 +304,6 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
                 }
                 b.dx[t] = d.x;
                 b.dy[t] = d.y;
-                b.dist2[t] = dist2;
                 b.rsum[t] = rsum;
                 b.inv_msum[t] = imi + self.inv_mass[j];
                 b.vx[t] = v.x;
@@ -311,14 +311,20 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
                 b.spin[t] = si + rj * self.omega[j];
                 b.xi[t] = c.shear[k];
                 c.shear[k] = 0.0;
-                c.fpair[k] = DVec2::ZERO;
-                c.ftan[k] = 0.0;
-                b.len += touching as usize;
-                if b.len == BLOCK {
+                if j >= c.range.end {
+                    // Only cross-chunk entries carry their force out of the pass.
+                    c.fpair[k] = DVec2::ZERO;
+                    c.ftan[k] = 0.0;
+                }
+                len += touching as usize;
+                if len == BLOCK {
+                    b.len = len;
                     self.flush(&mut b, c);
+                    len = 0;
                 }
             }
         }
+        b.len = len;
         self.flush(&mut b, c);
     }
 
@@ -341,7 +347,9 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
         // The bound lets the compiler drop index checks, which would stop vectorisation.
         let n = b.len.min(BLOCK);
         for t in 0..n {
-            let dist = b.dist2[t].sqrt();
+            // Recomputed rather than stored: cheaper than a store and a load per entry, and
+            // the same operations give the same value as the touching test.
+            let dist = (b.dx[t] * b.dx[t] + b.dy[t] * b.dy[t]).sqrt();
             // One division serves both 1/dist and m_eff = 1/(1/m_i + 1/m_j).
             let q = 1.0 / (dist * b.inv_msum[t]);
             let inv_dist = q * b.inv_msum[t];

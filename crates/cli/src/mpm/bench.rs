@@ -124,17 +124,6 @@ pub fn state_hash(s: &State) -> u64 {
     h
 }
 
-/// CPU time of this process, all threads (s), from /proc/self/stat (utime + stime, in
-/// clock ticks of 1/100 s); `None` where that file does not exist.
-pub fn cpu_seconds() -> Option<f64> {
-    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
-    // Fields after the parenthesised command name; utime and stime are fields 14 and 15.
-    let rest = &stat[stat.rfind(')')? + 2..];
-    let f: Vec<&str> = rest.split_whitespace().collect();
-    let ticks = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
-    Some(ticks / 100.0)
-}
-
 /// Runs the benchmark.
 pub fn run(o: Options) -> ExitCode {
     let (setup, p) = match setup(&o) {
@@ -156,7 +145,7 @@ pub fn run(o: Options) -> ExitCode {
             return fail(3, &e.to_string());
         }
     }
-    let c0 = cpu_seconds();
+    let c0 = crate::bench::cpu_seconds();
     let t0 = Instant::now();
     // Step from inside the pool, so parallel stages start on a worker thread.
     let r = rayon::scope(|_| {
@@ -169,7 +158,7 @@ pub fn run(o: Options) -> ExitCode {
         return fail(3, &e.to_string());
     }
     let secs = t0.elapsed().as_secs_f64();
-    let cpu = c0.and_then(|c0| Some(cpu_seconds()? - c0));
+    let cpu = c0.and_then(|c0| Some(crate::bench::cpu_seconds()? - c0));
     let rate = o.particles as f64 * o.steps as f64 / secs;
     println!("particles: {}", o.particles);
     println!("grid: {0}x{0}", o.grid);
