@@ -80,31 +80,83 @@ pub fn shock_sound2(m: &ShockMg, rho0: f64, v: f64, p: f64) -> f64 {
     dp_drho + p * g / (rho * rho)
 }
 
-/// The mixture at burn fraction λ and relative volume v: p = a + b·e.
-#[inline]
-pub fn mixture_linear(x: &Explosive, lambda: f64, v: f64) -> (f64, f64) {
-    let rho0 = x.density;
-    let q = x.specific_energy();
-    let (ar, br) = shock_linear(&x.unreacted, rho0, v);
-    let (ap, bp) = jwl_linear(&x.jwl, rho0, v);
-    let l = lambda;
-    ((1.0 - l) * ar + l * (ap + bp * q), (1.0 - l) * br + l * bp)
+/// The mixture's EOS frozen at one burn fraction and relative volume: p = a + b·e, with
+/// the JWL exponentials kept for the sound speed (the element pass needs both, and the
+/// exponentials are most of the cost).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mixture {
+    /// Pressure at e = 0 (Pa).
+    pub a: f64,
+    /// ∂p/∂e at fixed density (kg/m³).
+    pub b: f64,
+    lambda: f64,
+    v: f64,
+    exps: (f64, f64),
 }
 
-/// Squared sound speed of the mixture, the mass-fraction average of both phases' c²
-/// (each evaluated at the mixture pressure), floored at a tiny positive value.
+/// The mixture at burn fraction λ and relative volume v. A phase with no mass share is
+/// skipped, so unburnt and fully burnt elements evaluate one EOS only.
 #[inline]
-pub fn mixture_sound2(x: &Explosive, lambda: f64, v: f64, e: f64, p: f64) -> f64 {
+pub fn mixture(x: &Explosive, lambda: f64, v: f64) -> Mixture {
     let rho0 = x.density;
-    let mut c2 = 0.0;
+    let (mut a, mut b) = (0.0, 0.0);
+    let mut exps = (0.0, 0.0);
     if lambda < 1.0 {
-        c2 += (1.0 - lambda) * shock_sound2(&x.unreacted, rho0, v, p);
+        let (ar, br) = shock_linear(&x.unreacted, rho0, v);
+        a += (1.0 - lambda) * ar;
+        b += (1.0 - lambda) * br;
     }
     if lambda > 0.0 {
-        let ep = e + x.specific_energy();
-        c2 += lambda * jwl_sound2(&x.jwl, rho0, v, ep, p);
+        let j = &x.jwl;
+        exps = ((-j.r1 * v).exp(), (-j.r2 * v).exp());
+        let ap = j.a * (1.0 - j.omega / (j.r1 * v)) * exps.0
+            + j.b * (1.0 - j.omega / (j.r2 * v)) * exps.1;
+        let bp = j.omega * rho0 / v;
+        a += lambda * (ap + bp * x.specific_energy());
+        b += lambda * bp;
     }
-    c2.max(1e-6 * x.unreacted.c0 * x.unreacted.c0)
+    Mixture {
+        a,
+        b,
+        lambda,
+        v,
+        exps,
+    }
+}
+
+impl Mixture {
+    /// Squared sound speed at energy e and pressure p: the mass-fraction average of both
+    /// phases' c² (each at the mixture pressure), floored at a tiny positive value.
+    #[inline]
+    pub fn sound2(&self, x: &Explosive, e: f64, p: f64) -> f64 {
+        let (rho0, l, v) = (x.density, self.lambda, self.v);
+        let mut c2 = 0.0;
+        if l < 1.0 {
+            c2 += (1.0 - l) * shock_sound2(&x.unreacted, rho0, v, p);
+        }
+        if l > 0.0 {
+            let j = &x.jwl;
+            let w = j.omega;
+            let ep = e + x.specific_energy();
+            let bracket = j.a * self.exps.0 * (j.r1 * v - w - w / (j.r1 * v))
+                + j.b * self.exps.1 * (j.r2 * v - w - w / (j.r2 * v))
+                + w * rho0 * ep / v
+                + w * p;
+            c2 += l * v / rho0 * bracket;
+        }
+        c2.max(1e-6 * x.unreacted.c0 * x.unreacted.c0)
+    }
+}
+
+/// The mixture at burn fraction λ and relative volume v as p = a + b·e.
+pub fn mixture_linear(x: &Explosive, lambda: f64, v: f64) -> (f64, f64) {
+    let m = mixture(x, lambda, v);
+    (m.a, m.b)
+}
+
+/// Squared sound speed of the mixture at λ, v, e and p.
+pub fn mixture_sound2(x: &Explosive, lambda: f64, v: f64, e: f64, p: f64) -> f64 {
+    mixture(x, lambda, v).sound2(x, e, p)
 }
 
 #[cfg(test)]
@@ -172,6 +224,18 @@ mod tests {
 
     /// Fully burnt at the initial density with e = 0: the constant-volume explosion state
     /// p_JWL(1, E0).
+    /// The mixture's sound speed is the mass-fraction average of the phases'.
+    #[test]
+    fn mixture_sound_speed_averages_the_phases() {
+        let x = tnt();
+        let (v, e, l) = (0.85, 2.0e5, 0.4);
+        let (a, b) = mixture_linear(&x, l, v);
+        let p = a + b * e;
+        let direct = (1.0 - l) * shock_sound2(&x.unreacted, x.density, v, p)
+            + l * jwl_sound2(&x.jwl, x.density, v, e + x.specific_energy(), p);
+        assert!((mixture_sound2(&x, l, v, e, p) - direct).abs() < 1e-9 * direct);
+    }
+
     #[test]
     fn burnt_mixture_holds_the_detonation_energy() {
         let x = tnt();

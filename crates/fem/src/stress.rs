@@ -8,7 +8,7 @@
 //! with, so internal + kinetic energy is conserved to second order. Because every EOS
 //! here is linear in e at fixed density, p^(n+1) is solved together with e^(n+1).
 
-use crate::eos::{mixture_linear, mixture_sound2};
+use crate::eos::mixture;
 use crate::mesh::signed_area;
 use crate::setup::FemSetup;
 use crate::state::{element_size, min_altitude, Charge};
@@ -194,7 +194,8 @@ pub fn stress_forces(setup: &FemSetup, c: &mut Charge, dt: f64) -> Result<(), Br
                 }
 
                 // Energy and pressure together: p1 = a + b·e1.
-                let (pa, pb) = mixture_linear(x, lam, rel_v);
+                let mix = mixture(x, lam, rel_v);
+                let (pa, pb) = (mix.a, mix.b);
                 let q_bar = 0.5 * (ch.q[k] + q1);
                 let rhs =
                     ch.energy[k] + (-(0.5 * (ch.pressure[k] + pa) + q_bar) * d_area + w_dev) / m;
@@ -206,7 +207,7 @@ pub fn stress_forces(setup: &FemSetup, c: &mut Charge, dt: f64) -> Result<(), Br
                         time: t1,
                     });
                 }
-                let c2 = mixture_sound2(x, lam, rel_v, e1, p1);
+                let c2 = mix.sound2(x, e1, p1);
                 let c = c2.sqrt();
 
                 // Forces on the nodes from σ = −(p + q)I + s at the new geometry.

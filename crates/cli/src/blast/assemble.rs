@@ -249,10 +249,23 @@ fn ring_part(s: &Scenario, base: &Path, fem: &FemSetup, mesh: &Mesh) -> Result<R
         ));
     }
     let source = match &r.packing {
-        PackingSpec::File { path } => dem_scn::ParticleSource::File {
-            material: r.material.clone(),
-            path: path.clone(),
-        },
+        PackingSpec::File { path } => {
+            let full = base.join(path);
+            if !full.is_file() {
+                return Err(err(
+                    "ring.packing.path",
+                    format!("\"{path}\""),
+                    format!(
+                        "no such file ({}); packings come from `grains pack SPEC.toml`, which writes runs/<spec name>/packing.txt",
+                        full.display()
+                    ),
+                ));
+            }
+            dem_scn::ParticleSource::File {
+                material: r.material.clone(),
+                path: path.clone(),
+            }
+        }
         PackingSpec::Lattice {
             d0,
             spread,

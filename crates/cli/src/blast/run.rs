@@ -125,6 +125,13 @@ pub fn run(
     let mut next_snapshot = 0;
     let plots_dir = out.join("plots");
     std::fs::create_dir_all(&plots_dir)?;
+    // Snapshots of an earlier run into the same directory would be mistaken for this one's.
+    for entry in std::fs::read_dir(&plots_dir)?.flatten() {
+        let name = entry.file_name().to_string_lossy().to_string();
+        if name.starts_with("particles_") && name.ends_with("us.png") {
+            std::fs::remove_file(entry.path())?;
+        }
+    }
 
     let mut max_penetration: f64 = 0.0;
     let record = |charge: &Charge,

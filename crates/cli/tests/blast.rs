@@ -1,0 +1,265 @@
+//! The FEM–DEM front end end to end: a bare charge passes its checks, a small coupled
+//! ring runs and reports its figures, `grains check` prints F/B, and bad input is
+//! refused with one line naming the key and value, exit 1 and no output directory.
+
+use std::path::Path;
+use std::process::Command;
+
+/// A 4 mm TNT charge on a coarse mesh: fast, and still within the checks' bounds.
+const CHARGE: &str = r#"
+engine = "fem_dem"
+name = "t_charge"
+
+[charge]
+explosive = "tnt"
+radius = 0.004
+
+[charge.mesh]
+size_edge = 0.1e-3
+size_centre = 0.1e-3
+
+[run]
+duration = 1.2e-6
+
+[output]
+frames = 2
+history = 50
+
+[[check]]
+kind = "energy_conservation"
+
+# 40 elements across the radius: the burn ramp delays the front by ~5 % of r/D at a
+# quarter radius (the example charge_only, 4× finer, holds 2 %).
+[[check]]
+kind = "detonation_arrival"
+tolerance = 0.08
+"#;
+
+/// A 2 mm charge in a ring of 0.1 mm disks, 3 µs.
+const RING: &str = r#"
+engine = "fem_dem"
+name = "t_ring"
+
+[charge]
+explosive = "pe4"
+radius = 0.002
+
+[charge.mesh]
+size_edge = 0.15e-3
+size_centre = 0.2e-3
+
+[ring]
+material = "quartz"
+inner_radius = 0.002
+outer_radius = 0.0028
+
+[ring.packing]
+source = "lattice"
+d0 = 0.1e-3
+
+[[material]]
+name = "quartz"
+density = 2560.0
+youngs = 72.0e9
+poisson = 0.27
+friction = 0.3
+restitution = 0.3723
+
+[run]
+duration = 3.0e-6
+
+[output]
+frames = 2
+history = 60
+snapshots = [2.0e-6]
+
+[[check]]
+kind = "fill_to_burster"
+expected = 1.15
+tolerance = 0.1
+"#;
+
+fn grains(args: &[&str]) -> (i32, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_grains"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).to_string(),
+        String::from_utf8_lossy(&o.stderr).to_string(),
+    )
+}
+
+fn run(text: &str, extra: Option<(&str, &str)>) -> (i32, String, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("s.toml");
+    std::fs::write(&file, text).unwrap();
+    if let Some((name, body)) = extra {
+        std::fs::write(dir.path().join(name), body).unwrap();
+    }
+    let out = dir.path().join("out");
+    let (code, _, err) = grains(&[
+        "run",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    (code, err, dir)
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn bare_charge_conserves_energy_and_detonates_at_d_cj() {
+    let (code, err, dir) = run(CHARGE, None);
+    assert_eq!(code, 0, "{err}");
+    let s = summary(dir.path());
+    for c in s["checks"].as_array().unwrap() {
+        assert_eq!(c["pass"], true, "{c}");
+    }
+    let speed = s["figures"]["detonation_front_speed"].as_f64().unwrap();
+    assert!((speed / 6930.0 - 1.0).abs() < 0.03, "front speed {speed}");
+    for f in [
+        "history.csv",
+        "frames/series.pvd",
+        "frames/charge_00000.vtu",
+        "plots/arrival.png",
+        "plots/energies.png",
+    ] {
+        assert!(dir.path().join("out").join(f).exists(), "missing {f}");
+    }
+}
+
+#[test]
+fn small_ring_runs_coupled() {
+    let (code, err, dir) = run(RING, None);
+    assert_eq!(code, 0, "{err}");
+    let s = summary(dir.path());
+    let f = &s["figures"];
+    let fb = f["fill_to_burster_ratio"].as_f64().unwrap();
+    assert!(fb > 1.0 && fb < 1.3, "F/B {fb}");
+    let v = f["mean_radial_velocity_terminal"].as_f64().unwrap();
+    assert!(v > 200.0 && v < 2500.0, "velocity {v}");
+    assert!(f.get("band_velocity_terminal").is_some());
+    assert!(f["max_penetration_ratio"].as_f64().unwrap() < 0.5);
+    let h = std::fs::read_to_string(dir.path().join("out/history.csv")).unwrap();
+    let head = h.lines().next().unwrap();
+    for col in [
+        "inner_radius",
+        "outer_radius",
+        "pressure_front",
+        "band_velocity",
+        "spall_velocity",
+        "band_fraction",
+    ] {
+        assert!(head.contains(col), "history lacks {col}");
+    }
+    for p in [
+        "plots/radii.png",
+        "plots/velocities.png",
+        "plots/band_fraction.png",
+        "frames/particles_00001.vtp",
+    ] {
+        assert!(dir.path().join("out").join(p).exists(), "missing {p}");
+    }
+    let snaps = std::fs::read_dir(dir.path().join("out/plots"))
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .starts_with("particles_")
+        })
+        .count();
+    assert_eq!(snaps, 2, "snapshot at 2 µs and at the end");
+}
+
+#[test]
+fn check_reports_particles_and_fill_to_burster() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("s.toml");
+    std::fs::write(&file, RING).unwrap();
+    let (code, out, err) = grains(&["check", file.to_str().unwrap(), "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["particles"].as_u64().unwrap() > 300);
+    assert!(v["fill_to_burster_ratio"].as_f64().unwrap() > 1.0);
+    assert_eq!(v["checks"][0]["pass"], true);
+}
+
+fn refused(text: &str, extra: Option<(&str, &str)>, must_contain: &[&str]) {
+    let (code, err, dir) = run(text, extra);
+    assert_eq!(code, 1, "exit code; stderr: {err}");
+    assert!(
+        !dir.path().join("out").exists(),
+        "an output directory was written"
+    );
+    let line = err.trim();
+    assert_eq!(line.lines().count(), 1, "one line: {line}");
+    for m in must_contain {
+        assert!(line.contains(m), "{line:?} lacks {m:?}");
+    }
+}
+
+#[test]
+fn unknown_explosive() {
+    refused(
+        &RING.replace("\"pe4\"", "\"semtex\""),
+        None,
+        &["charge.explosive", "semtex", "tnt"],
+    );
+}
+
+#[test]
+fn non_positive_eos_parameter() {
+    let custom = CHARGE.replace(
+        "explosive = \"tnt\"",
+        "explosive = \"custom\"\n\n[charge.custom]\nname = \"x\"\ndensity = 1630.0\ndetonation_velocity = 6930.0\n\
+         cj_pressure = 21.0e9\njwl = { a = 373.77e9, b = 3.747e9, r1 = -4.15, r2 = 0.9, omega = 0.35, e0 = 6.0e9 }\n\
+         unreacted = { c0 = 2390.0, s = 2.05, gamma0 = 0.96 }\n\n[charge.extra]",
+    )
+    .replace("[charge.extra]\nradius", "radius");
+    // Put radius back under [charge] (the custom table was inserted before it).
+    let custom = custom.replacen("\nradius = 0.004\n", "\n", 1).replacen(
+        "[charge]\n",
+        "[charge]\nradius = 0.004\n",
+        1,
+    );
+    refused(&custom, None, &["charge.custom.jwl.r1", "-4.15", "> 0"]);
+}
+
+#[test]
+fn mesh_too_coarse() {
+    refused(
+        &CHARGE.replace("size_edge = 0.1e-3", "size_edge = 1.0e-3"),
+        None,
+        &["charge.mesh.size_edge", "too coarse"],
+    );
+}
+
+#[test]
+fn charge_overlapping_ring() {
+    refused(
+        &RING.replace("\nradius = 0.002\n", "\nradius = 0.0022\n"),
+        None,
+        &["charge.radius", "overlaps the ring"],
+    );
+}
+
+#[test]
+fn packing_that_does_not_fit_the_ring() {
+    let text = RING.replace(
+        "source = \"lattice\"\nd0 = 0.1e-3",
+        "source = \"file\"\npath = \"pack.txt\"",
+    );
+    let pack = "# x y r\n0.0025 0.0 5e-5\n0.0 0.0031 5e-5\n";
+    refused(
+        &text,
+        Some(("pack.txt", pack)),
+        &["ring.packing.path", "pack.txt", "does not fit the ring"],
+    );
+}
