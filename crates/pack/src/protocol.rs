@@ -21,6 +21,8 @@ use std::time::Instant;
 const DRAW_MARGIN: f64 = 1.05;
 /// Sweeps between progress lines of the Monte Carlo stage.
 const PROGRESS_EVERY: u64 = 1000;
+/// Seconds between progress lines on long runs.
+const PROGRESS_SECONDS: f64 = 60.0;
 /// Sweeps between jamming tests of the Monte Carlo stage.
 const STALL_WINDOW: u64 = 200;
 /// Growth over a window, relative to the nominal `rate × window`, below which the
@@ -137,10 +139,14 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
     let cap = 1.0 + p.max_swell;
     let mut last = s_start;
     let mut swap = 0.0;
+    let mut last_line = Instant::now();
     while hd.sweeps < p.max_sweeps {
         let st = hd.sweep(&region, p.rate, cap);
         swap = st.swap_acceptance;
-        if hd.sweeps.is_multiple_of(PROGRESS_EVERY) {
+        if hd.sweeps.is_multiple_of(PROGRESS_EVERY)
+            || last_line.elapsed().as_secs_f64() > PROGRESS_SECONDS
+        {
+            last_line = Instant::now();
             say(format!(
                 "growth: sweep {} after {:.1} s, mean scale {:.5}, acceptance {:.2}, swaps {:.2}",
                 hd.sweeps,
