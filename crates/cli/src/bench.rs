@@ -123,7 +123,10 @@ pub fn cmd_bench(what: BenchCommand) -> ExitCode {
                 // Robust to other load on the machine: time the process was not running
                 // is not counted.
                 println!("cpu time: {cpu:.3} s");
-                println!("particle-steps per cpu-s: {:.4e}", particles as f64 * steps as f64 / cpu);
+                println!(
+                    "particle-steps per cpu-s: {:.4e}",
+                    particles as f64 * steps as f64 / cpu
+                );
             }
             println!("neighbour builds: {}", state.contacts.builds);
             let d = grains_dem::diagnostics::measure(&setup, &state);
