@@ -274,13 +274,7 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
         // memory on every entry, in one long dependent chain.
         let mut len = 0usize;
         for i in c.range.clone() {
-            let (pi, ri, imi, vi, si) = (
-                self.pos[i],
-                self.radius[i],
-                self.inv_mass[i],
-                self.vel[i],
-                self.radius[i] * self.omega[i],
-            );
+            let (pi, ri) = (self.pos[i], self.radius[i]);
             for e in self.row[i] as usize..self.row[i + 1] as usize {
                 let j = self.nbr[e] as usize;
                 let d = self.image.apply(self.pos[j] - pi);
@@ -295,20 +289,12 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
                 // Always < BLOCK (the block is flushed when full); the mask lets the
                 // compiler see it and drop thirteen index checks per entry.
                 let t = len & (BLOCK - 1);
-                let v = vi - self.vel[j];
                 b.entry[t] = k as u32;
                 b.i[t] = i as u32;
                 b.j[t] = j as u32;
-                if !L::UNIFORM {
-                    b.params[t] = *self.lookup.params(self.material[i], self.material[j]);
-                }
                 b.dx[t] = d.x;
                 b.dy[t] = d.y;
                 b.rsum[t] = rsum;
-                b.inv_msum[t] = imi + self.inv_mass[j];
-                b.vx[t] = v.x;
-                b.vy[t] = v.y;
-                b.spin[t] = si + rj * self.omega[j];
                 b.xi[t] = c.shear[k];
                 c.shear[k] = 0.0;
                 if j >= c.range.end {
@@ -330,6 +316,7 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
 
     /// Runs the contact law over the block and scatters its forces.
     fn flush(&self, b: &mut Block, c: &mut Chunk) {
+        self.gather(b);
         if L::UNIFORM {
             let p = *self.lookup.params(0, 0);
             self.law(b, |_| p);
@@ -338,6 +325,30 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
             self.law(b, |t| params[t]);
         }
         self.scatter(b, c);
+    }
+
+    /// Reads the kinematics of the block's touching pairs. Done here rather than per
+    /// listed entry: most entries of a Verlet list do not touch, and their velocities,
+    /// spins and masses would be fetched (from arrays other than the positions) for
+    /// nothing.
+    #[inline(always)]
+    fn gather(&self, b: &mut Block) {
+        let n = b.len.min(BLOCK);
+        for t in 0..n {
+            let (i, j) = (b.i[t] as usize, b.j[t] as usize);
+            let (vi, vj) = (self.vel[i], self.vel[j]);
+            let (wi, wj) = (self.omega[i], self.omega[j]);
+            let (ri, rj) = (self.radius[i], self.radius[j]);
+            let (mi, mj) = (self.inv_mass[i], self.inv_mass[j]);
+            let v = vi - vj;
+            b.vx[t] = v.x;
+            b.vy[t] = v.y;
+            b.spin[t] = ri * wi + rj * wj;
+            b.inv_msum[t] = mi + mj;
+            if !L::UNIFORM {
+                b.params[t] = *self.lookup.params(self.material[i], self.material[j]);
+            }
+        }
     }
 
     /// The contact law over the block's arrays: no branches and no indirection, so the
