@@ -263,3 +263,44 @@ fn packing_that_does_not_fit_the_ring() {
         &["ring.packing.path", "pack.txt", "does not fit the ring"],
     );
 }
+
+/// The xue-2019 examples that need no packing file (the charge alone and the lattice
+/// rings) stay valid scenarios.
+#[test]
+fn self_contained_examples_validate() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/xue2019");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if !(name.starts_with("ring_small") || name == "charge_only.toml") {
+            continue;
+        }
+        let (code, _, err) = grains(&["check", path.to_str().unwrap(), "--json"]);
+        assert_eq!(code, 0, "{name}: {err}");
+        seen += 1;
+    }
+    assert!(seen >= 6, "found only {seen} self-contained examples");
+}
+
+/// Elastic, frictionless grains keep all the work the charge does on them
+/// (examples/xue2019/ring_small_elastic.toml, about 15 s in release):
+/// `cargo test --release -p grains --test blast -- --ignored`.
+#[test]
+#[ignore]
+fn elastic_ring_keeps_the_charges_work() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/xue2019/ring_small_elastic.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let (code, _, err) = grains(&[
+        "run",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let s = summary(dir.path());
+    assert_eq!(s["checks"][0]["name"], "ring_energy_transfer_error");
+    assert_eq!(s["checks"][0]["pass"], true, "{}", s["checks"][0]);
+}

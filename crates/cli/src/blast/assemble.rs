@@ -48,9 +48,10 @@ pub struct RingPart {
 }
 
 impl RingPart {
-    /// Particle step: the DEM's own, bounded by the penalty contact's.
-    pub fn dt(&self, dem_safety: f64) -> f64 {
-        self.setup.dt.min(dem_safety * self.dt_penalty)
+    /// Particle step: the DEM's own (already scaled by `run.dem_safety`), bounded by
+    /// `coupling_safety` times the penalty contact's stable step.
+    pub fn dt(&self, coupling_safety: f64) -> f64 {
+        self.setup.dt.min(coupling_safety * self.dt_penalty)
     }
 }
 
@@ -133,12 +134,13 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, String> {
     let charge_mass = fem.explosive.density * mesh.area();
     let dt_charge = grains_fem::Charge::new(&fem, &mesh).dt_stable;
     positive("run.duration", s.run.duration)?;
-    if !(s.run.dem_safety > 0.0 && s.run.dem_safety <= 1.0) {
-        return Err(err(
-            "run.dem_safety",
-            shown(s.run.dem_safety),
-            "must be in (0, 1]",
-        ));
+    for (key, v) in [
+        ("run.dem_safety", s.run.dem_safety),
+        ("run.coupling_safety", s.run.coupling_safety),
+    ] {
+        if !(v > 0.0 && v <= 1.0) {
+            return Err(err(key, shown(v), "must be in (0, 1]"));
+        }
     }
     if s.output.history == 0 {
         return Err(err("output.history", "0", "must be at least 1"));
@@ -210,6 +212,15 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, String> {
                         &format!("check[{k}].kind"),
                         "\"energy_conservation\"",
                         "needs a bare charge (no [ring]) and charge.damping = 0",
+                    ));
+                }
+            }
+            CheckSpec::RingEnergyTransfer { .. } => {
+                if ring.is_none() {
+                    return Err(err(
+                        &format!("check[{k}].kind"),
+                        "\"ring_energy_transfer\"",
+                        "needs a [ring]",
                     ));
                 }
             }

@@ -55,7 +55,7 @@ pub fn derived(s: &Scenario, a: &Assembled) -> Map<String, Value> {
             m.insert("dt_particles_critical".into(), r.dt_critical.into());
             m.insert("dt_penalty_critical".into(), r.dt_penalty.into());
             m.insert("skin".into(), r.setup.skin.into());
-            dt = dt.min(r.dt(s.run.dem_safety));
+            dt = dt.min(r.dt(s.run.coupling_safety));
         }
         None => {
             m.insert("particles".into(), 0.into());

@@ -88,10 +88,10 @@ pub fn run(
     let centre = DVec2::from(scn.charge.centre);
     let mut charge = Charge::new(fem, &asm.mesh);
     let e0 = energies(fem, &charge).total();
-    let dem_safety = scn.run.dem_safety;
+    let coupling_safety = scn.run.coupling_safety;
     let (mut ring, dt_particles, mean_d, n) = match asm.ring {
         Some(rp) => {
-            let dt_p = rp.dt(dem_safety);
+            let dt_p = rp.dt(coupling_safety);
             let mean_d = rp.mean_diameter;
             let n = rp.particles.len();
             let mut coupling = Coupling::new(rp.stiffness, rp.setup.skin);
@@ -205,7 +205,7 @@ pub fn run(
             if r.coupling.max_penetration_ratio > RUNAWAY_PENETRATION {
                 unstable = Some(format!(
                     "step {} (t = {:.6e} s): a particle penetrated the charge's edge by {:.3} of its radius \
-                     (limit {RUNAWAY_PENETRATION}); raise coupling.stiffness_ratio or lower run.dem_safety",
+                     (limit {RUNAWAY_PENETRATION}); raise coupling.stiffness_ratio or lower run.coupling_safety",
                     charge.step, charge.time, r.coupling.max_penetration_ratio
                 ));
                 break;

@@ -160,9 +160,15 @@ pub struct RunSpec {
     /// Fraction of the charge's stable (CFL) step.
     #[serde(default = "default_safety")]
     pub safety: f64,
-    /// Fraction of the particles' (and the penalty contact's) stable step.
+    /// Fraction of the particles' stable step: their damped contacts need about ten
+    /// steps per oscillation to resolve a collision's restitution.
     #[serde(default = "default_dem_safety")]
     pub dem_safety: f64,
+    /// Fraction of the penalty contact's stable step. The charge–particle spring is
+    /// undamped and serves only to keep the bodies apart, so it needs stability, not
+    /// resolution.
+    #[serde(default = "default_coupling_safety")]
+    pub coupling_safety: f64,
     /// Verlet skin (m); default half the mean particle diameter (the ring moves fast
     /// as a whole, so a wide skin saves rebuilds at little cost in pairs).
     #[serde(default)]
@@ -173,7 +179,10 @@ fn default_safety() -> f64 {
     0.5
 }
 fn default_dem_safety() -> f64 {
-    0.2
+    0.3
+}
+fn default_coupling_safety() -> f64 {
+    0.5
 }
 
 /// `[output]`.
@@ -284,6 +293,14 @@ pub enum CheckSpec {
         #[serde(default = "fifteen_percent")]
         tolerance: f64,
     },
+    /// |1 − ring kinetic energy / work the charge did on the ring| at the end, at most
+    /// `tolerance`: the coupling's energy bookkeeping, meaningful for elastic
+    /// (restitution 1), frictionless grains, which cannot dissipate.
+    RingEnergyTransfer {
+        /// Relative tolerance.
+        #[serde(default = "two_percent")]
+        tolerance: f64,
+    },
     /// Ring mass over charge mass against the paper's F/B (also evaluated by `check`).
     FillToBurster {
         /// Expected F/B.
@@ -310,6 +327,7 @@ impl CheckSpec {
         match self {
             CheckSpec::DetonationArrival { tolerance }
             | CheckSpec::EnergyConservation { tolerance }
+            | CheckSpec::RingEnergyTransfer { tolerance }
             | CheckSpec::BandVelocity { tolerance, .. }
             | CheckSpec::FillToBurster { tolerance, .. } => *tolerance,
         }
