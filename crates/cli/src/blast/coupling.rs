@@ -45,6 +45,11 @@ pub struct Coupling {
     pub energy: f64,
     /// Force of the charge on the particles at the last evaluation (N/m), radial sum.
     pub radial_force: f64,
+    /// Bound on the squared highest frequency of the penalty springs at the last
+    /// evaluation (1/s²); see [`Coupling::stable_dt`].
+    omega2_max: f64,
+    /// Scratch: each node's Gershgorin row sum.
+    node_row: Vec<f64>,
 }
 
 impl Coupling {
@@ -110,12 +115,29 @@ impl Coupling {
         self.candidates = parts.concat();
     }
 
+    /// The stable step of the penalty springs as they are now (infinity with no
+    /// contact). A boundary node carries every grain on its two edges, and the edges
+    /// lengthen several-fold as the products expand, so a node comes to hold many
+    /// springs at once: its frequency grows with their number, which the single-contact
+    /// estimate made before the run cannot see. The bound is Gershgorin's on the
+    /// mass-normalised stiffness of the springs (each row: Σ K·|w_r w_c|/√(m_r m_c)).
+    pub fn stable_dt(&self) -> f64 {
+        if self.omega2_max > 0.0 {
+            2.0 / self.omega2_max.sqrt()
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// Fine detection and forces: adds the penalty force to `p.force` and sets the
     /// charge's external nodal forces to the reactions.
     pub fn forces(&mut self, c: &mut Charge, p: &mut Particles) {
         for f in c.nodes.f_ext.iter_mut() {
             *f = DVec2::ZERO;
         }
+        self.node_row.clear();
+        self.node_row.resize(c.nodes.pos.len(), 0.0);
+        let (mut row_owner, mut particle_row, mut particle_max) = (usize::MAX, 0.0f64, 0.0f64);
         self.contacts = 0;
         self.max_penetration_ratio = 0.0;
         self.energy = 0.0;
@@ -140,11 +162,31 @@ impl Coupling {
             p.force[i] += f;
             c.nodes.f_ext[na as usize] -= (1.0 - hit.at) * f;
             c.nodes.f_ext[nb as usize] -= hit.at * f;
+            // The spring couples the particle (weight 1) and the two nodes (weights
+            // 1 − at and at): add |K w_r w_c|/√(m_r m_c) to each of the three rows.
+            let (ma, mb, mp) = (
+                c.nodes.mass[na as usize],
+                c.nodes.mass[nb as usize],
+                p.mass(i),
+            );
+            let (wa, wb) = ((1.0 - hit.at).abs(), hit.at.abs());
+            let (sa, sb, sp) = (wa / ma.sqrt(), wb / mb.sqrt(), 1.0 / mp.sqrt());
+            let sum = sa + sb + sp;
+            self.node_row[na as usize] += k * sa * sum;
+            self.node_row[nb as usize] += k * sb * sum;
+            if i != row_owner {
+                particle_max = particle_max.max(particle_row);
+                (row_owner, particle_row) = (i, 0.0);
+            }
+            particle_row += k * sp * sum;
             self.contacts += 1;
             self.max_penetration_ratio = self.max_penetration_ratio.max(hit.overlap / r);
             self.energy += 0.5 * k * hit.overlap * hit.overlap;
             self.radial_force += f.length();
         }
+        particle_max = particle_max.max(particle_row);
+        let node_max = self.node_row.iter().copied().fold(0.0, f64::max);
+        self.omega2_max = node_max.max(particle_max);
     }
 }
 

@@ -194,6 +194,9 @@ pub fn run(
     let mut unstable: Option<String> = None;
     while charge.time < duration * (1.0 - 1e-12) {
         dt = (fem.safety * charge.dt_stable).min(dt_particles);
+        if let Some(r) = &ring {
+            dt = dt.min(coupling_safety * r.coupling.stable_dt());
+        }
         dt_min = dt_min.min(dt);
         dt_max = dt_max.max(dt);
         if let Err(b) = coupled_step(fem, &mut charge, ring.as_mut(), dt) {
