@@ -139,12 +139,6 @@ impl CellGrid {
     }
 }
 
-#[inline]
-fn pair_key(a: u32, b: u32) -> u64 {
-    let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-    ((lo as u64) << 32) | hi as u64
-}
-
 impl ContactList {
     /// Number of list entries.
     pub fn len(&self) -> usize {
@@ -214,21 +208,47 @@ impl ContactList {
     }
 
     /// Touching entries as (pair key by stable id, ξ), sorted by key.
-    fn history_by_id(&self, particles: &Particles) -> Vec<(u64, f64)> {
-        let mut out = Vec::new();
-        if self.row.len() != particles.len() + 1 {
-            return out;
+    fn history_by_id(&self, particles: &Particles) -> History {
+        let n = particles.len();
+        let mut h = History {
+            start: vec![0; n + 2],
+            partner: Vec::new(),
+            shear: Vec::new(),
+        };
+        if self.row.len() != n + 1 {
+            return h;
         }
-        for i in 0..particles.len() {
+        // A counting sort by the lower id: two passes over the list, no comparison sort.
+        let live = |e: usize| self.shear[e] != 0.0;
+        let ids = |i: usize, e: usize| {
+            let (a, b) = (particles.id[i], particles.id[self.nbr[e] as usize]);
+            (a.min(b) as usize, a.max(b))
+        };
+        for i in 0..n {
             for e in self.row[i] as usize..self.row[i + 1] as usize {
-                if self.shear[e] != 0.0 {
-                    let j = self.nbr[e] as usize;
-                    out.push((pair_key(particles.id[i], particles.id[j]), self.shear[e]));
+                if live(e) {
+                    h.start[ids(i, e).0 + 2] += 1;
                 }
             }
         }
-        out.sort_unstable_by_key(|&(k, _)| k);
-        out
+        for k in 2..n + 2 {
+            h.start[k] += h.start[k - 1];
+        }
+        let total = h.start[n + 1] as usize;
+        h.partner = vec![0; total];
+        h.shear = vec![0.0; total];
+        for i in 0..n {
+            for e in self.row[i] as usize..self.row[i + 1] as usize {
+                if live(e) {
+                    let (lo, hi) = ids(i, e);
+                    let at = h.start[lo + 1] as usize;
+                    h.partner[at] = hi;
+                    h.shear[at] = self.shear[e];
+                    h.start[lo + 1] += 1;
+                }
+            }
+        }
+        h
     }
 
     /// Indexes, by partner, the entries whose partner lies in another chunk than the
@@ -316,13 +336,36 @@ fn sort_by_cell(grid: &CellGrid, particles: &Particles) -> (Vec<u32>, Vec<u32>) 
     (perm, start)
 }
 
+/// Tangential springs of the touching pairs before a rebuild, indexed by particle id
+/// (ids are 0..n): the pairs whose lower id is `a` are `start[a]..start[a + 1]`, so a
+/// lookup reads a row of two or three entries instead of searching every contact.
+struct History {
+    start: Vec<u32>,
+    partner: Vec<u32>,
+    shear: Vec<f64>,
+}
+
+impl History {
+    /// The spring of the pair of ids (a, b), 0 if it was not touching.
+    #[inline]
+    fn get(&self, a: u32, b: u32) -> f64 {
+        let (lo, hi) = (a.min(b) as usize, a.max(b));
+        let (Some(&from), Some(&to)) = (self.start.get(lo), self.start.get(lo + 1)) else {
+            return 0.0;
+        };
+        (from as usize..to as usize)
+            .find(|&k| self.partner[k] == hi)
+            .map_or(0.0, |k| self.shear[k])
+    }
+}
+
 fn build_rows(
     setup: &Setup,
     grid: &CellGrid,
     cell_start: &[u32],
     p: &Particles,
     range: std::ops::Range<usize>,
-    old: &[(u64, f64)],
+    old: &History,
 ) -> (Vec<u32>, Vec<u32>, Vec<f64>) {
     let mut lens = Vec::with_capacity(range.len());
     let mut nbr = Vec::with_capacity(range.len() * 4);
@@ -339,11 +382,7 @@ fn build_rows(
                 let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
                 if d.length_squared() < cut * cut {
                     nbr.push(j as u32);
-                    let key = pair_key(p.id[i], p.id[j]);
-                    let xi = old
-                        .binary_search_by_key(&key, |&(k, _)| k)
-                        .map_or(0.0, |at| old[at].1);
-                    shear.push(xi);
+                    shear.push(old.get(p.id[i], p.id[j]));
                 }
             }
         }
