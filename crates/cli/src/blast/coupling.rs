@@ -50,6 +50,8 @@ pub struct Coupling {
     omega2_max: f64,
     /// Scratch: each node's Gershgorin row sum.
     node_row: Vec<f64>,
+    /// Each boundary edge's length when the run started.
+    rest_length: Vec<f64>,
 }
 
 impl Coupling {
@@ -142,8 +144,14 @@ impl Coupling {
         self.max_penetration_ratio = 0.0;
         self.energy = 0.0;
         self.radial_force = 0.0;
-        let k = self.stiffness;
         let nb_edges = c.boundary.len();
+        if self.rest_length.len() != nb_edges {
+            self.rest_length = c
+                .boundary
+                .iter()
+                .map(|e| (c.nodes.pos[e[1] as usize] - c.nodes.pos[e[0] as usize]).length())
+                .collect();
+        }
         for &(i, e) in &self.candidates {
             let (i, e) = (i as usize, e as usize);
             let [na, nb] = c.boundary[e];
@@ -157,6 +165,17 @@ impl Coupling {
             });
             let Some(hit) = hit else {
                 continue;
+            };
+            // K_pe is the stiffness of a grain on an edge of its initial length; as the
+            // products expand and an edge lengthens, each of the grains it now carries
+            // gets K_pe·l0/l, so that a node's springs together stay as stiff as at the
+            // start (and the step with them), while the pressure that the springs must
+            // hold falls much faster than the edge lengthens.
+            let length = (b - a).length();
+            let k = if length > self.rest_length[e] {
+                self.stiffness * self.rest_length[e] / length
+            } else {
+                self.stiffness
             };
             let f = k * hit.overlap * hit.normal;
             p.force[i] += f;
