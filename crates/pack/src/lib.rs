@@ -17,6 +17,7 @@
 #![warn(missing_docs)]
 
 pub mod deposit;
+pub mod lattice;
 pub mod lining;
 pub mod mc;
 pub mod output;
