@@ -3,19 +3,25 @@
 //! Each sweep every mobile disk tries one random displacement and one exchange of size
 //! with another disk of its cell, then grows towards the common target scale (radii
 //! grow by one factor, so the size distribution is kept) as far as its neighbours
-//! allow. The growth rate per sweep is the protocol's rate: fast growth jams the
-//! disks where they stand (amorphous); slow growth gives them time to find
-//! close-packed arrangements, which narrow size distributions can form and broad
-//! ones cannot. Size exchanges are an equilibrium move (Berthier et al.'s swap Monte
-//! Carlo): they reach the slow-growth limit in far fewer sweeps, without changing the
-//! set of sizes.
+//! allow. The growth rate per sweep is the protocol's rate: it sets how long the disks
+//! can rearrange before they jam. From a disordered start, fast growth jams them where
+//! they stand (amorphous) and slow growth lets narrow size distributions find
+//! close-packed arrangements. From a lattice, fast growth freezes the template and slow
+//! growth lets broad distributions, which cannot hold a crystal, lose it. Size
+//! exchanges are an equilibrium move (Berthier et al.'s swap Monte Carlo) that leaves
+//! the set of sizes unchanged.
 //!
 //! Parallel and deterministic: each sweep sorts the disks into square cells (grid
 //! shifted by a seeded offset) wider than any interaction plus a move, and visits
 //! them in four colour classes of a 2 × 2 checkerboard. A disk only moves within its
 //! cell, so cells of one colour are independent; rows of one colour are processed in
-//! parallel, each cell with its own random stream keyed by (seed, sweep, cell). No
-//! result depends on the thread count.
+//! parallel, in place (the rows they read are of the other parity), each cell with its
+//! own random stream keyed by (seed, sweep, cell). No result depends on the thread
+//! count.
+//!
+//! Each disk first gathers the few neighbours that can touch it during its visit (those
+//! within twice the largest radius plus a step), so its three tests run over about a
+//! third of the 3 × 3 block.
 
 use glam::DVec2;
 use grains_analysis::region::Region;
@@ -395,7 +401,7 @@ impl Ctx<'_> {
             }
             let d = own[k];
             // Every disk that can touch disk k during its visit, whatever its size or
-            // trial position: a tenth of the block, so each test below is cheap.
+            // trial position: a third of the block, so each test below is cheap.
             // Filled branch-free: a slot is written for every disk and kept when near.
             let total = own.len() + near.len();
             if cand_buf.len() < total {

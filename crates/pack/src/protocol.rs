@@ -1,6 +1,7 @@
-//! The whole protocol, one stage per step: line the walls, deposit a dense start,
-//! grow by hard-disk Monte Carlo at the given rate until jammed, then swell and
-//! minimise the soft-disk energy to close the last gaps.
+//! The whole protocol, one stage per step: line the walls, place the bulk disks on one
+//! triangular lattice (or deposit them under gravity), grow them by hard-disk Monte
+//! Carlo at the given rate until jammed, then swell and minimise the soft-disk energy
+//! to close the last gaps.
 
 use crate::deposit::deposit;
 use crate::lattice::{clearance_factor, sites};
@@ -35,8 +36,8 @@ const FTOL_FINAL: f64 = 1e-7;
 /// Force tolerance of the overlap removal on the lattice start (d0 units).
 const FTOL_START: f64 = 1e-7;
 /// Packing fraction of the lattice start at the drawn sizes: sets how many disks the
-/// region holds (the growth ends near it, so the realised d0 stays near the nominal).
-const LATTICE_FILL: f64 = 0.85;
+/// region holds. Growth jams near it, so the realised d0 ends near the nominal one.
+const LATTICE_FILL: f64 = 0.89;
 const ITER_CYCLE: u64 = 2000;
 const ITER_FINAL: u64 = 20_000;
 /// Energy per disk above which a swell cycle counts as jammed (overlaps ≳ 10⁻⁴ d0).
@@ -60,15 +61,15 @@ pub struct Packing {
 /// Figures of the protocol's stages.
 #[derive(Clone, Debug, Default)]
 pub struct ProtocolStats {
-    /// Bulk disks deposited.
+    /// Bulk disks placed (lattice sites filled, or disks deposited).
     pub deposited: usize,
-    /// Bulk packing fraction after deposition.
+    /// Bulk packing fraction of the start at the drawn sizes (lattice) or as deposited.
     pub fraction_after_deposit: f64,
     /// Monte Carlo sweeps run.
     pub sweeps: u64,
     /// Bulk packing fraction when the Monte Carlo growth stopped.
     pub fraction_after_growth: f64,
-    /// Acceptance of size exchanges in the last sweep.
+    /// Acceptance of size exchanges, averaged over the sweeps.
     pub swap_acceptance: f64,
     /// Mean radius scale (relative to the drawn sizes) at the end.
     pub final_scale: f64,
@@ -82,7 +83,7 @@ pub struct ProtocolStats {
     pub fraction_bulk: f64,
     /// Probability mass the Gaussian loses at d ≤ 0.
     pub truncated_mass: f64,
-    /// Wall time of the deposition (s).
+    /// Wall time of the start, lattice or deposition (s).
     pub seconds_deposit: f64,
     /// Wall time of the Monte Carlo growth (s).
     pub seconds_growth: f64,
@@ -195,11 +196,11 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
     let mut hd = HardDisks::new(pos, base, scale, fixed, spec.seed);
     let cap = 1.0 + p.max_swell;
     let mut last = s_start;
-    let mut swap = 0.0;
+    let mut swap_sum = 0.0;
     let mut last_line = Instant::now();
     while hd.sweeps < p.max_sweeps {
         let st = hd.sweep(&region, p.rate, cap);
-        swap = st.swap_acceptance;
+        swap_sum += st.swap_acceptance;
         if hd.sweeps.is_multiple_of(PROGRESS_EVERY)
             || last_line.elapsed().as_secs_f64() > PROGRESS_SECONDS
         {
@@ -225,7 +226,7 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
         }
     }
     stats.sweeps = hd.sweeps;
-    stats.swap_acceptance = swap;
+    stats.swap_acceptance = swap_sum / hd.sweeps.max(1) as f64;
     stats.seconds_growth = t1.elapsed().as_secs_f64();
     let (hd_pos, hd_base, hd_scale) = hd.state();
     let radii: Vec<f64> = hd_base.iter().zip(&hd_scale).map(|(b, s)| b * s).collect();

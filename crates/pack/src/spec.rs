@@ -166,8 +166,8 @@ pub struct ProtocolSpec {
     /// Bulk packing fraction the packing must reach (a check; growth goes on to jamming).
     #[serde(default = "default_target")]
     pub target_fraction: f64,
-    /// Growth rate: relative radius increase per Monte Carlo sweep. Fast (1e-3) jams
-    /// the disks amorphously; slow (1e-5) lets narrow distributions crystallise.
+    /// Growth rate: relative radius increase per Monte Carlo sweep, i.e. how long the
+    /// disks may rearrange before they jam (see docs/packing.md for what it steers).
     #[serde(default = "default_rate")]
     pub rate: f64,
     /// Bulk packing fraction at which the Monte Carlo growth starts.
