@@ -64,6 +64,11 @@ fn bad_specs_are_refused_without_output() {
         ("width = 0.02", "width = 0.001", "domain.width = 0.001"),
         ("rate = 2e-3", "rate = 0.0", "protocol.rate = 0"),
         (
+            "rate = 2e-3",
+            "rate = 2e-3\nstart = \"grid\"",
+            "expected `lattice` or `deposit`",
+        ),
+        (
             "figure = \"packing_fraction_bulk\"",
             "figure = \"nope\"",
             "check[0].figure",
@@ -103,6 +108,15 @@ fn small_packing_writes_everything_and_is_thread_independent() {
     let a = std::fs::read_to_string(one.path().join("out/packing.txt")).unwrap();
     let b = std::fs::read_to_string(two.path().join("out/packing.txt")).unwrap();
     assert!(a == b, "packing differs between 1 and 2 threads");
+    // The deposition start too.
+    let deposit = SPEC.replace("rate = 2e-3", "rate = 2e-3\nstart = \"deposit\"");
+    let (c, d) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    assert_eq!(pack(c.path(), &deposit, "1").0, 0);
+    assert_eq!(pack(d.path(), &deposit, "2").0, 0);
+    let c = std::fs::read_to_string(c.path().join("out/packing.txt")).unwrap();
+    let d = std::fs::read_to_string(d.path().join("out/packing.txt")).unwrap();
+    assert!(c == d, "deposition packing differs between 1 and 2 threads");
+    assert!(c != a, "the start makes no difference");
     assert!(a.starts_with("# grains pack: tiny"));
     assert!(a.contains("# domain = rectangle"));
     for f in [

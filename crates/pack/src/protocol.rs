@@ -1,12 +1,14 @@
-//! The whole protocol, one stage per step: line the walls, deposit a dense start,
-//! grow by hard-disk Monte Carlo at the given rate until jammed, then swell and
-//! minimise the soft-disk energy to close the last gaps.
+//! The whole protocol, one stage per step: line the walls, place the bulk disks on one
+//! triangular lattice (or deposit them under gravity), grow them by hard-disk Monte
+//! Carlo at the given rate until jammed, then swell and minimise the soft-disk energy
+//! to close the last gaps.
 
 use crate::deposit::deposit;
+use crate::lattice::{clearance_factor, sites};
 use crate::lining::lining;
 use crate::mc::HardDisks;
 use crate::relax::Soft;
-use crate::spec::PackSpec;
+use crate::spec::{PackSpec, StartSpec};
 use crate::validate::Validated;
 use glam::DVec2;
 use grains_analysis::fraction::bulk_fraction;
@@ -27,10 +29,15 @@ const PROGRESS_SECONDS: f64 = 60.0;
 const STALL_WINDOW: u64 = 200;
 /// Growth over a window, relative to the nominal `rate × window`, below which the
 /// Monte Carlo stage counts as jammed.
-const STALL_FRACTION: f64 = 0.02;
+const STALL_FRACTION: f64 = 0.25;
 /// Force tolerance of each swell cycle and of the final minimisation (d0 units).
 const FTOL_CYCLE: f64 = 1e-5;
 const FTOL_FINAL: f64 = 1e-7;
+/// Force tolerance of the overlap removal on the lattice start (d0 units).
+const FTOL_START: f64 = 1e-7;
+/// Packing fraction of the lattice start at the drawn sizes: sets how many disks the
+/// region holds. Growth jams near it, so the realised d0 ends near the nominal one.
+const LATTICE_FILL: f64 = 0.89;
 const ITER_CYCLE: u64 = 2000;
 const ITER_FINAL: u64 = 20_000;
 /// Energy per disk above which a swell cycle counts as jammed (overlaps ≳ 10⁻⁴ d0).
@@ -54,15 +61,15 @@ pub struct Packing {
 /// Figures of the protocol's stages.
 #[derive(Clone, Debug, Default)]
 pub struct ProtocolStats {
-    /// Bulk disks deposited.
+    /// Bulk disks placed (lattice sites filled, or disks deposited).
     pub deposited: usize,
-    /// Bulk packing fraction after deposition.
+    /// Bulk packing fraction of the start at the drawn sizes (lattice) or as deposited.
     pub fraction_after_deposit: f64,
     /// Monte Carlo sweeps run.
     pub sweeps: u64,
     /// Bulk packing fraction when the Monte Carlo growth stopped.
     pub fraction_after_growth: f64,
-    /// Acceptance of size exchanges in the last sweep.
+    /// Acceptance of size exchanges, averaged over the sweeps.
     pub swap_acceptance: f64,
     /// Mean radius scale (relative to the drawn sizes) at the end.
     pub final_scale: f64,
@@ -76,7 +83,7 @@ pub struct ProtocolStats {
     pub fraction_bulk: f64,
     /// Probability mass the Gaussian loses at d ≤ 0.
     pub truncated_mass: f64,
-    /// Wall time of the deposition (s).
+    /// Wall time of the start, lattice or deposition (s).
     pub seconds_deposit: f64,
     /// Wall time of the Monte Carlo growth (s).
     pub seconds_growth: f64,
@@ -103,46 +110,97 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
     let mut size_rng = rng::stream(spec.seed, 0);
     let mean_area = std::f64::consts::FRAC_PI_4 * v.sizes.mean_square() / (d0 * d0);
     let draw = (region.area() * 0.92 / mean_area * DRAW_MARGIN).ceil() as usize;
-    let drawn: Vec<f64> = (0..draw)
-        .map(|_| 0.5 * p.deposit_scale * v.sizes.sample(&mut size_rng) / d0)
-        .collect();
-    say(format!("lining: {fixed} disks; drew {draw} sizes"));
+    say(format!("lining: {fixed} disks"));
 
-    // 2. Deposition: a dense, overlap-free start.
+    // 2. The start: overlap-free bulk disks at `start_fraction`.
     let t0 = Instant::now();
-    let dep = deposit(&region, &lining_disks, &drawn);
-    stats.deposited = dep.pos.len();
+    let (pos, base, s_start) = match p.start {
+        StartSpec::Deposit => {
+            let drawn: Vec<f64> = (0..draw)
+                .map(|_| 0.5 * p.deposit_scale * v.sizes.sample(&mut size_rng) / d0)
+                .collect();
+            let dep = deposit(&region, &lining_disks, &drawn);
+            stats.deposited = dep.pos.len();
+            stats.fraction_after_deposit = bulk_fraction(&dep.pos, &dep.radius, &region, margin);
+            say(format!(
+                "deposition: {} disks in {:.1} s, bulk fraction {:.4}",
+                stats.deposited,
+                t0.elapsed().as_secs_f64(),
+                stats.fraction_after_deposit
+            ));
+            let order = spatial_order(&dep.pos, &region);
+            let mut pos: Vec<DVec2> = lining_disks.iter().map(|l| l.0).collect();
+            let mut base: Vec<f64> = lining_disks.iter().map(|l| l.1).collect();
+            pos.extend(order.iter().map(|&k| dep.pos[k as usize]));
+            base.extend(
+                order
+                    .iter()
+                    .map(|&k| dep.radius[k as usize] / p.deposit_scale),
+            );
+            let s = (p.deposit_scale
+                * (p.start_fraction / stats.fraction_after_deposit.max(1e-9)).sqrt())
+            .min(p.deposit_scale);
+            (pos, base, s)
+        }
+        StartSpec::Lattice => {
+            let mut place = rng::stream(spec.seed, 2);
+            let shift = DVec2::new(place.random::<f64>(), place.random::<f64>());
+            let msq = v.sizes.mean_square() / (d0 * d0);
+            // Spacing at which the drawn sizes fill LATTICE_FILL of the plane.
+            let a = (std::f64::consts::FRAC_PI_4 * msq / (LATTICE_FILL * 0.75f64.sqrt())).sqrt();
+            let r_lining = lining_disks.iter().map(|l| l.1).fold(0.0, f64::max);
+            let sites = sites(&region, a, 2.0 * r_lining + 0.5 * a, shift);
+            let mut pos: Vec<DVec2> = lining_disks.iter().map(|l| l.0).collect();
+            let mut base: Vec<f64> = lining_disks.iter().map(|l| l.1).collect();
+            pos.extend_from_slice(&sites);
+            base.extend(
+                sites
+                    .iter()
+                    .map(|_| 0.5 * v.sizes.sample(&mut size_rng) / d0),
+            );
+            stats.deposited = sites.len();
+            stats.fraction_after_deposit =
+                bulk_fraction(&pos[fixed..], &base[fixed..], &region, margin);
+            // Shrink to the start fraction, then push apart the few large neighbours
+            // that still overlap: the lattice stays, slightly distorted.
+            let s = (p.start_fraction / stats.fraction_after_deposit.max(1e-9))
+                .sqrt()
+                .min(1.0);
+            let rad: Vec<f64> = base
+                .iter()
+                .enumerate()
+                .map(|(i, b)| if i < fixed { *b } else { b * s })
+                .collect();
+            let mut soft = Soft::new(pos, rad, fixed);
+            let r = soft.minimise(&region, FTOL_START, ITER_FINAL);
+            let f = clearance_factor(&region, &soft.pos, &soft.rad, fixed).min(1.0);
+            say(format!(
+                "lattice: {} disks, spacing {:.4} d0, bulk fraction {:.4} at full size; \
+                 {} FIRE iterations to clear overlaps at {:.4}, in {:.1} s",
+                sites.len(),
+                a,
+                stats.fraction_after_deposit,
+                r.iterations,
+                p.start_fraction,
+                t0.elapsed().as_secs_f64()
+            ));
+            (soft.pos, base, s * f * (1.0 - 1e-12))
+        }
+    };
     stats.seconds_deposit = t0.elapsed().as_secs_f64();
-    stats.fraction_after_deposit = bulk_fraction(&dep.pos, &dep.radius, &region, margin);
-    say(format!(
-        "deposition: {} disks in {:.1} s, bulk fraction {:.4}",
-        stats.deposited, stats.seconds_deposit, stats.fraction_after_deposit
-    ));
 
-    // 3. Monte Carlo growth from a dense fluid at `start_fraction` until jammed.
+    // 3. Monte Carlo growth from `start_fraction` until jammed.
     let t1 = Instant::now();
-    let order = spatial_order(&dep.pos, &region);
-    let mut pos: Vec<DVec2> = lining_disks.iter().map(|l| l.0).collect();
-    let mut base: Vec<f64> = lining_disks.iter().map(|l| l.1).collect();
-    pos.extend(order.iter().map(|&k| dep.pos[k as usize]));
-    base.extend(
-        order
-            .iter()
-            .map(|&k| dep.radius[k as usize] / p.deposit_scale),
-    );
-    let s_start = (p.deposit_scale
-        * (p.start_fraction / stats.fraction_after_deposit.max(1e-9)).sqrt())
-    .min(p.deposit_scale);
     let mut scale = vec![1.0; fixed];
     scale.extend(std::iter::repeat_n(s_start, base.len() - fixed));
     let mut hd = HardDisks::new(pos, base, scale, fixed, spec.seed);
     let cap = 1.0 + p.max_swell;
     let mut last = s_start;
-    let mut swap = 0.0;
+    let mut swap_sum = 0.0;
     let mut last_line = Instant::now();
     while hd.sweeps < p.max_sweeps {
         let st = hd.sweep(&region, p.rate, cap);
-        swap = st.swap_acceptance;
+        swap_sum += st.swap_acceptance;
         if hd.sweeps.is_multiple_of(PROGRESS_EVERY)
             || last_line.elapsed().as_secs_f64() > PROGRESS_SECONDS
         {
@@ -168,10 +226,11 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
         }
     }
     stats.sweeps = hd.sweeps;
-    stats.swap_acceptance = swap;
+    stats.swap_acceptance = swap_sum / hd.sweeps.max(1) as f64;
     stats.seconds_growth = t1.elapsed().as_secs_f64();
-    let radii: Vec<f64> = hd.base.iter().zip(&hd.scale).map(|(b, s)| b * s).collect();
-    stats.fraction_after_growth = bulk_fraction(&hd.pos, &radii, &region, margin);
+    let (hd_pos, hd_base, hd_scale) = hd.state();
+    let radii: Vec<f64> = hd_base.iter().zip(&hd_scale).map(|(b, s)| b * s).collect();
+    stats.fraction_after_growth = bulk_fraction(&hd_pos, &radii, &region, margin);
     say(format!(
         "growth: {} Monte Carlo sweeps in {:.1} s at rate {:e}, bulk fraction {:.4}",
         hd.sweeps, stats.seconds_growth, p.rate, stats.fraction_after_growth
@@ -180,7 +239,7 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
     // 4. Swell and minimise: close the gaps hard-disk growth leaves at jamming.
     let t2 = Instant::now();
     let current: Vec<f64> = radii[fixed..].to_vec();
-    let mut soft = Soft::new(hd.pos, radii, fixed);
+    let mut soft = Soft::new(hd_pos, radii, fixed);
     let mut s = 1.0;
     let mut r = soft.minimise(&region, FTOL_CYCLE, ITER_CYCLE);
     stats.iterations += r.iterations;
@@ -199,7 +258,7 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
     r = soft.minimise(&region, FTOL_FINAL, ITER_FINAL);
     stats.iterations += r.iterations;
     let sizes: Vec<f64> = soft.rad[fixed..].to_vec();
-    let drawn_total: f64 = hd.base[fixed..].iter().sum();
+    let drawn_total: f64 = hd_base[fixed..].iter().sum();
     stats.final_scale = sizes.iter().sum::<f64>() / drawn_total.max(1e-300);
     stats.max_overlap = r.max_overlap;
     stats.fraction_bulk = bulk_fraction(&soft.pos, &soft.rad, &region, margin);

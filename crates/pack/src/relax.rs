@@ -192,8 +192,14 @@ impl Soft {
                     let mut f = DVec2::ZERO;
                     for &j in &list[start[i] as usize..start[i + 1] as usize] {
                         let d = region.delta(pi, pos[j as usize]);
-                        let dist = d.length();
-                        let ov = ri + rad[j as usize] - dist;
+                        let reach = ri + rad[j as usize];
+                        // Most listed pairs are apart: test before the square root.
+                        let d2 = d.length_squared();
+                        if d2 >= reach * reach {
+                            continue;
+                        }
+                        let dist = d2.sqrt();
+                        let ov = reach - dist;
                         if ov > 0.0 && dist > 0.0 {
                             f -= d * (ov / dist);
                             s.energy += 0.25 * ov * ov;

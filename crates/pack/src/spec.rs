@@ -143,19 +143,34 @@ impl Default for LiningSpec {
     }
 }
 
-/// `[protocol]`: deposition, Lubachevsky–Stillinger-like Monte Carlo growth, then
+/// `protocol.start`: the configuration the Monte Carlo growth starts from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StartSpec {
+    /// One triangular lattice over the whole region: a single crystal orientation,
+    /// which a narrow size distribution keeps and a broad one loses.
+    #[default]
+    Lattice,
+    /// Gravity deposition: a dense, disordered bed.
+    Deposit,
+}
+
+/// `[protocol]`: the start (lattice or deposition), Lubachevsky–Stillinger-like Monte Carlo growth, then
 /// swell-and-minimise.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ProtocolSpec {
+    /// How the bulk disks are placed before the Monte Carlo growth.
+    #[serde(default)]
+    pub start: StartSpec,
     /// Bulk packing fraction the packing must reach (a check; growth goes on to jamming).
     #[serde(default = "default_target")]
     pub target_fraction: f64,
-    /// Growth rate: relative radius increase per Monte Carlo sweep. Fast (1e-3) jams
-    /// the disks amorphously; slow (1e-5) lets narrow distributions crystallise.
+    /// Growth rate: relative radius increase per Monte Carlo sweep, i.e. how long the
+    /// disks may rearrange before they jam (see docs/packing.md for what it steers).
     #[serde(default = "default_rate")]
     pub rate: f64,
-    /// Bulk packing fraction at which the Monte Carlo growth starts (a dense fluid).
+    /// Bulk packing fraction at which the Monte Carlo growth starts.
     #[serde(default = "default_start")]
     pub start_fraction: f64,
     /// Most Monte Carlo sweeps.
@@ -167,7 +182,8 @@ pub struct ProtocolSpec {
     /// Largest radius scale reached by growth, relative to the drawn sizes.
     #[serde(default = "default_max_swell")]
     pub max_swell: f64,
-    /// Scale of the deposited disks relative to their drawn size (sets how many fit).
+    /// Scale of the deposited disks relative to their drawn size (sets how many fit;
+    /// deposition start only).
     #[serde(default = "default_deposit_scale")]
     pub deposit_scale: f64,
 }
@@ -179,7 +195,7 @@ fn default_rate() -> f64 {
     1e-5
 }
 fn default_start() -> f64 {
-    0.70
+    0.75
 }
 fn default_max_sweeps() -> u64 {
     100_000
@@ -197,6 +213,7 @@ fn default_deposit_scale() -> f64 {
 impl Default for ProtocolSpec {
     fn default() -> Self {
         ProtocolSpec {
+            start: StartSpec::default(),
             target_fraction: default_target(),
             rate: default_rate(),
             start_fraction: default_start(),
