@@ -215,6 +215,18 @@ fn unknown_explosive() {
 }
 
 #[test]
+fn unknown_ring_material() {
+    refused(
+        &RING.replace(
+            "material = \"quartz\"\ninner",
+            "material = \"granite\"\ninner",
+        ),
+        None,
+        &["ring.material", "granite"],
+    );
+}
+
+#[test]
 fn non_positive_eos_parameter() {
     let custom = CHARGE.replace(
         "explosive = \"tnt\"",

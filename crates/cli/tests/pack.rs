@@ -74,6 +74,11 @@ fn bad_specs_are_refused_without_output() {
             "check[0].figure",
         ),
         ("seed = 3", "seed = 3\nbogus = 1", "bogus"),
+        (
+            "rate = 2e-3",
+            "rate = 2e-3\nanneal_sweeps = 20000000",
+            "protocol.anneal_sweeps = 20000000",
+        ),
     ];
     for (from, to, expect) in cases {
         let dir = tempfile::tempdir().unwrap();
@@ -117,6 +122,15 @@ fn small_packing_writes_everything_and_is_thread_independent() {
     let d = std::fs::read_to_string(d.path().join("out/packing.txt")).unwrap();
     assert!(c == d, "deposition packing differs between 1 and 2 threads");
     assert!(c != a, "the start makes no difference");
+    // And an anneal before the growth.
+    let anneal = SPEC.replace("rate = 2e-3", "rate = 2e-3\nanneal_sweeps = 40");
+    let (e, f) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    assert_eq!(pack(e.path(), &anneal, "1").0, 0);
+    assert_eq!(pack(f.path(), &anneal, "2").0, 0);
+    let e = std::fs::read_to_string(e.path().join("out/packing.txt")).unwrap();
+    let f = std::fs::read_to_string(f.path().join("out/packing.txt")).unwrap();
+    assert!(e == f, "annealed packing differs between 1 and 2 threads");
+    assert!(e != a, "the anneal makes no difference");
     assert!(a.starts_with("# grains pack: tiny"));
     assert!(a.contains("# domain = rectangle"));
     for f in [

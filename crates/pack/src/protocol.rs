@@ -13,6 +13,7 @@ use crate::validate::Validated;
 use glam::DVec2;
 use grains_analysis::fraction::bulk_fraction;
 use grains_analysis::grid::CellGrid;
+use grains_analysis::psi6::{order, psi6, OrderFigures};
 use grains_analysis::region::Region;
 use grains_analysis::INTERIOR_MARGIN_D0;
 use grains_core::rng;
@@ -195,29 +196,56 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
     scale.extend(std::iter::repeat_n(s_start, base.len() - fixed));
     let mut hd = HardDisks::new(pos, base, scale, fixed, spec.seed);
     let cap = 1.0 + p.max_swell;
-    let mut last = s_start;
     let mut swap_sum = 0.0;
     let mut last_line = Instant::now();
-    while hd.sweeps < p.max_sweeps {
+    // 3a. Anneal: sweeps with no growth, at the start fraction.
+    while hd.sweeps < p.anneal_sweeps {
+        let st = hd.sweep(&region, 0.0, cap);
+        swap_sum += st.swap_acceptance;
+        if hd.sweeps.is_multiple_of(PROGRESS_EVERY)
+            || last_line.elapsed().as_secs_f64() > PROGRESS_SECONDS
+        {
+            last_line = Instant::now();
+            let (order, _) = interior_order(&hd, &region, margin);
+            say(format!(
+                "anneal: sweep {} after {:.1} s, acceptance {:.2}, swaps {:.2}, \
+                 interior psi6 local {:.3} global {:.3}",
+                hd.sweeps,
+                t1.elapsed().as_secs_f64(),
+                st.acceptance,
+                st.swap_acceptance,
+                order.local,
+                order.global
+            ));
+        }
+    }
+    let mut last = s_start;
+    let grown_from = hd.sweeps;
+    while hd.sweeps - grown_from < p.max_sweeps {
         let st = hd.sweep(&region, p.rate, cap);
         swap_sum += st.swap_acceptance;
         if hd.sweeps.is_multiple_of(PROGRESS_EVERY)
             || last_line.elapsed().as_secs_f64() > PROGRESS_SECONDS
         {
             last_line = Instant::now();
+            let (order, phi) = interior_order(&hd, &region, margin);
             say(format!(
-                "growth: sweep {} after {:.1} s, mean scale {:.5}, acceptance {:.2}, swaps {:.2}",
+                "growth: sweep {} after {:.1} s, mean scale {:.5}, bulk fraction {:.4}, \
+                 acceptance {:.2}, swaps {:.2}, interior psi6 local {:.3} global {:.3}",
                 hd.sweeps,
                 t1.elapsed().as_secs_f64(),
                 st.mean_scale,
+                phi,
                 st.acceptance,
-                st.swap_acceptance
+                st.swap_acceptance,
+                order.local,
+                order.global
             ));
         }
         if st.min_scale >= cap - 1e-12 {
             break;
         }
-        if hd.sweeps.is_multiple_of(STALL_WINDOW) {
+        if (hd.sweeps - grown_from).is_multiple_of(STALL_WINDOW) {
             let nominal = last * ((1.0 + p.rate).powi(STALL_WINDOW as i32) - 1.0);
             if st.mean_scale - last < STALL_FRACTION * nominal {
                 break;
@@ -283,6 +311,21 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
         region: v.region,
         stats,
     }
+}
+
+/// Interior ψ6 order and bulk fraction of the current hard-disk state: the progress
+/// lines show how the template's order evolves as the disks grow.
+fn interior_order(hd: &HardDisks, region: &Region, margin: f64) -> (OrderFigures, f64) {
+    let (pos, base, scale) = hd.state();
+    let radii: Vec<f64> = base.iter().zip(&scale).map(|(b, s)| b * s).collect();
+    let (lo, hi) = region.bounds();
+    let grid = CellGrid::build(&pos, lo, hi, 1.0, region.period_x());
+    let psi = psi6(&pos, region, &grid);
+    let fixed = hd.fixed;
+    let order = order(&psi, |k| {
+        k >= fixed && region.boundary_distance(pos[k]) >= margin
+    });
+    (order, bulk_fraction(&pos, &radii, region, margin))
 }
 
 fn set_scale(soft: &mut Soft, base: &[f64], s: f64) {

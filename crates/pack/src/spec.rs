@@ -173,7 +173,11 @@ pub struct ProtocolSpec {
     /// Bulk packing fraction at which the Monte Carlo growth starts.
     #[serde(default = "default_start")]
     pub start_fraction: f64,
-    /// Most Monte Carlo sweeps.
+    /// Monte Carlo sweeps at `start_fraction`, with no growth, before the growth: time
+    /// for a size distribution that cannot hold the template to lose it.
+    #[serde(default)]
+    pub anneal_sweeps: u64,
+    /// Most Monte Carlo sweeps of the growth.
     #[serde(default = "default_max_sweeps")]
     pub max_sweeps: u64,
     /// Relative growth of the radii per swell cycle of the final minimisation.
@@ -217,6 +221,7 @@ impl Default for ProtocolSpec {
             target_fraction: default_target(),
             rate: default_rate(),
             start_fraction: default_start(),
+            anneal_sweeps: 0,
             max_sweeps: default_max_sweeps(),
             swell_step: default_swell_step(),
             max_swell: default_max_swell(),

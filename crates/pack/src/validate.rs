@@ -114,6 +114,13 @@ pub fn validate(spec: &PackSpec) -> Result<Validated, SpecError> {
             "must be in [0.3, 0.8]",
         ));
     }
+    if p.anneal_sweeps > 10_000_000 {
+        return Err(err(
+            "protocol.anneal_sweeps",
+            p.anneal_sweeps,
+            "must be at most 10000000",
+        ));
+    }
     if p.max_sweeps > 10_000_000 {
         return Err(err(
             "protocol.max_sweeps",

@@ -370,7 +370,10 @@ fn ring_part(s: &Scenario, base: &Path, fem: &FemSetup, mesh: &Mesh) -> Result<R
     };
     let asm = crate::dem::assemble::assemble(&dem, base).map_err(|e| {
         // The DEM front end names its own keys; say where they sit in this scenario.
-        e.to_string().replacen("particles[0]", "ring.packing", 1)
+        // The ring's material sits in `[ring]`, everything else in `[ring.packing]`.
+        e.to_string()
+            .replacen("particles[0].material", "ring.material", 1)
+            .replacen("particles[0]", "ring.packing", 1)
     })?;
     let mut setup = asm.setup;
     let p = asm.particles;
