@@ -102,34 +102,32 @@ fn bad_specs_are_refused_without_output() {
     assert!(err.contains("domain.r_out = 0.009"), "{err}");
 }
 
+/// Packs `spec` into `dir/out` on 1 thread and into a scratch directory on 2, asserts the
+/// two packing files are identical, and returns the file.
+fn packed_on_one_and_two_threads(dir: &Path, spec: &str, what: &str) -> String {
+    let two = tempfile::tempdir().unwrap();
+    let (code, err) = pack(dir, spec, "1");
+    assert_eq!(code, 0, "{what}: {err}");
+    let (code, err) = pack(two.path(), spec, "2");
+    assert_eq!(code, 0, "{what}: {err}");
+    let a = std::fs::read_to_string(dir.join("out/packing.txt")).unwrap();
+    let b = std::fs::read_to_string(two.path().join("out/packing.txt")).unwrap();
+    assert!(a == b, "{what} differs between 1 and 2 threads");
+    a
+}
+
 #[test]
 fn small_packing_writes_everything_and_is_thread_independent() {
     let one = tempfile::tempdir().unwrap();
-    let two = tempfile::tempdir().unwrap();
-    let (code, err) = pack(one.path(), SPEC, "1");
-    assert_eq!(code, 0, "{err}");
-    let (code, err) = pack(two.path(), SPEC, "2");
-    assert_eq!(code, 0, "{err}");
-    let a = std::fs::read_to_string(one.path().join("out/packing.txt")).unwrap();
-    let b = std::fs::read_to_string(two.path().join("out/packing.txt")).unwrap();
-    assert!(a == b, "packing differs between 1 and 2 threads");
+    let a = packed_on_one_and_two_threads(one.path(), SPEC, "packing");
     // The deposition start too.
     let deposit = SPEC.replace("rate = 2e-3", "rate = 2e-3\nstart = \"deposit\"");
-    let (c, d) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
-    assert_eq!(pack(c.path(), &deposit, "1").0, 0);
-    assert_eq!(pack(d.path(), &deposit, "2").0, 0);
-    let c = std::fs::read_to_string(c.path().join("out/packing.txt")).unwrap();
-    let d = std::fs::read_to_string(d.path().join("out/packing.txt")).unwrap();
-    assert!(c == d, "deposition packing differs between 1 and 2 threads");
+    let c =
+        packed_on_one_and_two_threads(tempfile::tempdir().unwrap().path(), &deposit, "deposition");
     assert!(c != a, "the start makes no difference");
     // And an anneal before the growth.
     let anneal = SPEC.replace("rate = 2e-3", "rate = 2e-3\nanneal_sweeps = 40");
-    let (e, f) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
-    assert_eq!(pack(e.path(), &anneal, "1").0, 0);
-    assert_eq!(pack(f.path(), &anneal, "2").0, 0);
-    let e = std::fs::read_to_string(e.path().join("out/packing.txt")).unwrap();
-    let f = std::fs::read_to_string(f.path().join("out/packing.txt")).unwrap();
-    assert!(e == f, "annealed packing differs between 1 and 2 threads");
+    let e = packed_on_one_and_two_threads(tempfile::tempdir().unwrap().path(), &anneal, "annealed");
     assert!(e != a, "the anneal makes no difference");
     assert!(a.starts_with("# grains pack: tiny"));
     assert!(a.contains("# domain = rectangle"));

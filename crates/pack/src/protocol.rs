@@ -198,31 +198,12 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
     let cap = 1.0 + p.max_swell;
     let mut swap_sum = 0.0;
     let mut last_line = Instant::now();
-    // 3a. Anneal: sweeps with no growth, at the start fraction.
-    while hd.sweeps < p.anneal_sweeps {
-        let st = hd.sweep(&region, 0.0, cap);
-        swap_sum += st.swap_acceptance;
-        if hd.sweeps.is_multiple_of(PROGRESS_EVERY)
-            || last_line.elapsed().as_secs_f64() > PROGRESS_SECONDS
-        {
-            last_line = Instant::now();
-            let (order, _) = interior_order(&hd, &region, margin);
-            say(format!(
-                "anneal: sweep {} after {:.1} s, acceptance {:.2}, swaps {:.2}, \
-                 interior psi6 local {:.3} global {:.3}",
-                hd.sweeps,
-                t1.elapsed().as_secs_f64(),
-                st.acceptance,
-                st.swap_acceptance,
-                order.local,
-                order.global
-            ));
-        }
-    }
+    // The first `anneal_sweeps` sweeps hold the start fraction (no growth).
     let mut last = s_start;
-    let grown_from = hd.sweeps;
-    while hd.sweeps - grown_from < p.max_sweeps {
-        let st = hd.sweep(&region, p.rate, cap);
+    let grown_from = p.anneal_sweeps;
+    while hd.sweeps < p.anneal_sweeps + p.max_sweeps {
+        let annealing = hd.sweeps < p.anneal_sweeps;
+        let st = hd.sweep(&region, if annealing { 0.0 } else { p.rate }, cap);
         swap_sum += st.swap_acceptance;
         if hd.sweeps.is_multiple_of(PROGRESS_EVERY)
             || last_line.elapsed().as_secs_f64() > PROGRESS_SECONDS
@@ -230,8 +211,9 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
             last_line = Instant::now();
             let (order, phi) = interior_order(&hd, &region, margin);
             say(format!(
-                "growth: sweep {} after {:.1} s, mean scale {:.5}, bulk fraction {:.4}, \
+                "{}: sweep {} after {:.1} s, mean scale {:.5}, bulk fraction {:.4}, \
                  acceptance {:.2}, swaps {:.2}, interior psi6 local {:.3} global {:.3}",
+                if annealing { "anneal" } else { "growth" },
                 hd.sweeps,
                 t1.elapsed().as_secs_f64(),
                 st.mean_scale,
@@ -241,6 +223,9 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
                 order.local,
                 order.global
             ));
+        }
+        if annealing {
+            continue;
         }
         if st.min_scale >= cap - 1e-12 {
             break;
