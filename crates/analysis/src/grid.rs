@@ -3,17 +3,51 @@
 
 use glam::DVec2;
 
+/// The geometry of a grid of `nx × ny` square cells of side `cell` over the box
+/// `lo..lo + (nx, ny)·cell`; with `periodic_x` the columns wrap.
+#[derive(Clone, Copy, Debug)]
+pub struct CellLayout {
+    /// Lower corner of the grid.
+    pub lo: DVec2,
+    /// Cell side.
+    pub cell: f64,
+    /// Columns.
+    pub nx: usize,
+    /// Rows.
+    pub ny: usize,
+    /// Whether the columns wrap in x.
+    pub periodic_x: bool,
+}
+
+impl CellLayout {
+    /// Column and row of a position, clamped into the grid (wrapped in periodic x).
+    #[inline]
+    pub fn coords(&self, p: DVec2) -> (i64, i64) {
+        let fx = ((p.x - self.lo.x) / self.cell).floor() as i64;
+        let fy = ((p.y - self.lo.y) / self.cell).floor() as i64;
+        let cx = if self.periodic_x {
+            fx.rem_euclid(self.nx as i64)
+        } else {
+            fx.clamp(0, self.nx as i64 - 1)
+        };
+        (cx, fy.clamp(0, self.ny as i64 - 1))
+    }
+
+    /// Row-major index of the cell holding a position.
+    #[inline]
+    pub fn index(&self, p: DVec2) -> usize {
+        let (cx, cy) = self.coords(p);
+        cy as usize * self.nx + cx as usize
+    }
+}
+
 /// Particles binned into square cells of side `cell`, over the box `lo..lo + n·cell`.
 ///
 /// With a periodic x direction the columns wrap, so a query near one side finds
 /// particles near the other; the caller applies the minimum image to distances.
 #[derive(Clone, Debug)]
 pub struct CellGrid {
-    lo: DVec2,
-    cell: f64,
-    nx: usize,
-    ny: usize,
-    periodic_x: bool,
+    layout: CellLayout,
     /// `start[c]..start[c + 1]` indexes `items` for cell `c`.
     start: Vec<u32>,
     items: Vec<u32>,
@@ -40,15 +74,17 @@ impl CellGrid {
         };
         let ny = (((hi.y - lo.y) / side).ceil() as usize).max(1);
         let mut g = CellGrid {
-            lo,
-            cell: side,
-            nx,
-            ny,
-            periodic_x: period_x.is_some(),
+            layout: CellLayout {
+                lo,
+                cell: side,
+                nx,
+                ny,
+                periodic_x: period_x.is_some(),
+            },
             start: vec![0; nx * ny + 1],
             items: vec![0; pos.len()],
         };
-        let cells: Vec<u32> = pos.iter().map(|p| g.cell_of(*p) as u32).collect();
+        let cells: Vec<u32> = pos.iter().map(|p| g.layout.index(*p) as u32).collect();
         for &c in &cells {
             g.start[c as usize + 1] += 1;
         }
@@ -65,43 +101,30 @@ impl CellGrid {
 
     /// Cell side.
     pub fn cell(&self) -> f64 {
-        self.cell
+        self.layout.cell
     }
 
     /// Column and row of a position, clamped into the grid (wrapped in periodic x).
     #[inline]
     pub fn coords(&self, p: DVec2) -> (i64, i64) {
-        let fx = ((p.x - self.lo.x) / self.cell).floor() as i64;
-        let fy = ((p.y - self.lo.y) / self.cell).floor() as i64;
-        let cx = if self.periodic_x {
-            fx.rem_euclid(self.nx as i64)
-        } else {
-            fx.clamp(0, self.nx as i64 - 1)
-        };
-        (cx, fy.clamp(0, self.ny as i64 - 1))
-    }
-
-    #[inline]
-    fn cell_of(&self, p: DVec2) -> usize {
-        let (cx, cy) = self.coords(p);
-        cy as usize * self.nx + cx as usize
+        self.layout.coords(p)
     }
 
     /// The particles of cell `(cx, cy)`; empty outside the grid. In periodic x the
     /// column wraps.
     #[inline]
     pub fn cell_items(&self, cx: i64, cy: i64) -> &[u32] {
-        if cy < 0 || cy >= self.ny as i64 {
+        if cy < 0 || cy >= self.layout.ny as i64 {
             return &[];
         }
-        let cx = if self.periodic_x {
-            cx.rem_euclid(self.nx as i64)
-        } else if cx < 0 || cx >= self.nx as i64 {
+        let cx = if self.layout.periodic_x {
+            cx.rem_euclid(self.layout.nx as i64)
+        } else if cx < 0 || cx >= self.layout.nx as i64 {
             return &[];
         } else {
             cx
         };
-        let c = cy as usize * self.nx + cx as usize;
+        let c = cy as usize * self.layout.nx + cx as usize;
         &self.items[self.start[c] as usize..self.start[c + 1] as usize]
     }
 
@@ -110,8 +133,8 @@ impl CellGrid {
     #[inline]
     pub fn for_each_near(&self, p: DVec2, reach: i64, mut f: impl FnMut(u32)) {
         let (cx, cy) = self.coords(p);
-        let span = (2 * reach + 1).min(if self.periodic_x {
-            self.nx as i64
+        let span = (2 * reach + 1).min(if self.layout.periodic_x {
+            self.layout.nx as i64
         } else {
             i64::MAX
         });
@@ -126,7 +149,7 @@ impl CellGrid {
 
     /// Number of columns and rows.
     pub fn dims(&self) -> (usize, usize) {
-        (self.nx, self.ny)
+        (self.layout.nx, self.layout.ny)
     }
 
     /// Particle indices in cell order (row by row): a spatially coherent ordering.

@@ -24,6 +24,7 @@
 //! third of the 3 × 3 block.
 
 use glam::DVec2;
+use grains_analysis::grid::CellLayout;
 use grains_analysis::region::Region;
 use grains_core::rng;
 use rand::RngExt;
@@ -161,12 +162,13 @@ impl HardDisks {
         lo.y -= cell * (1.0 + srng.random::<f64>());
         hi.y += cell;
         let ny = (((hi.y - lo.y) / cell).ceil() as usize).max(1);
-        let bins = Bins {
+        // The sweep's square cells over the shifted box.
+        let bins = CellLayout {
             lo,
             cell,
             nx,
             ny,
-            periodic: region.period_x().is_some(),
+            periodic_x: region.period_x().is_some(),
         };
         // Re-bin: a stable counting sort of the disks by cell.
         self.disks
@@ -262,36 +264,6 @@ impl HardDisks {
     }
 }
 
-/// The sweep's square cells over the shifted box `lo..lo + (nx, ny) · cell`.
-struct Bins {
-    lo: DVec2,
-    cell: f64,
-    nx: usize,
-    ny: usize,
-    periodic: bool,
-}
-
-impl Bins {
-    /// Column and row of a position, clamped into the grid (wrapped in periodic x).
-    #[inline]
-    fn coords(&self, p: DVec2) -> (i64, i64) {
-        let fx = ((p.x - self.lo.x) / self.cell).floor() as i64;
-        let fy = ((p.y - self.lo.y) / self.cell).floor() as i64;
-        let cx = if self.periodic {
-            fx.rem_euclid(self.nx as i64)
-        } else {
-            fx.clamp(0, self.nx as i64 - 1)
-        };
-        (cx, fy.clamp(0, self.ny as i64 - 1))
-    }
-
-    #[inline]
-    fn index(&self, p: DVec2) -> usize {
-        let (cx, cy) = self.coords(p);
-        cy as usize * self.nx + cx as usize
-    }
-}
-
 /// A disk that may touch the one being visited: its centre and radius, and its index
 /// in the cell when it is a cell-mate (whose size a swap can change).
 #[derive(Clone, Copy, Debug, Default)]
@@ -320,7 +292,7 @@ fn unit_disk(rng: &mut grains_core::rng::Rng) -> DVec2 {
 /// What every cell visit of one sweep shares.
 struct Ctx<'a> {
     region: &'a Region,
-    bins: &'a Bins,
+    bins: &'a CellLayout,
     start: &'a [usize],
     step: f64,
     /// Largest centre distance at which two disks can touch during one visit.
@@ -364,7 +336,7 @@ impl Ctx<'_> {
                         continue;
                     }
                     let x = cx as i64 + dx;
-                    let x = if self.bins.periodic {
+                    let x = if self.bins.periodic_x {
                         x.rem_euclid(nx as i64)
                     } else if x < 0 || x >= nx as i64 {
                         continue;
