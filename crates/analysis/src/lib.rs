@@ -19,6 +19,7 @@ pub mod fraction;
 pub mod grid;
 pub mod psi6;
 pub mod region;
+pub mod ring;
 pub mod rose;
 pub mod sample;
 pub mod sizes;

@@ -1,9 +1,10 @@
-//! Ctrl-C and SIGTERM: the first one asks the run loop to write a checkpoint and stop
-//! cleanly; a second one exits at once.
+//! Ctrl-C and SIGTERM: the first one asks the run loop to stop cleanly (with a
+//! checkpoint where the engine has one); a second one exits at once.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-static REQUESTED: AtomicBool = AtomicBool::new(false);
+/// Set by the first signal; the run loop reads it.
+pub static REQUESTED: AtomicBool = AtomicBool::new(false);
 
 /// Installs the handler (once per process; later calls are ignored).
 pub fn install() {
@@ -12,13 +13,6 @@ pub fn install() {
             eprintln!("grains: second interrupt, exiting without a checkpoint");
             std::process::exit(130);
         }
-        eprintln!(
-            "grains: interrupt received, writing a checkpoint and stopping (again to exit at once)"
-        );
+        eprintln!("grains: interrupt received, stopping (again to exit at once)");
     });
-}
-
-/// Whether a stop was requested.
-pub fn requested() -> bool {
-    REQUESTED.load(Ordering::Relaxed)
 }

@@ -1,28 +1,31 @@
 //! `grains`: one scenario file in; ParaView frames, history, plots and a summary out.
+//! Everything it does is grains-sim's; this is the command line: arguments, progress,
+//! messages and exit codes.
 
-mod analyze_cmd;
-mod bench;
-mod blast;
-mod dem;
 mod interrupt;
-mod mpm;
-mod pack_cmd;
 mod progress;
-mod summary;
 
 use clap::{Parser, Subcommand};
-use grains_core::checks::Check;
+use grains_sim::run::{self as sim_run, Finished, RunError, RunOptions};
+use grains_sim::{bench, check, driver, Source, Status};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// The built-in demo: disks pouring through a hopper onto a floor.
-const DEMO: &str = include_str!("../../../examples/dem/demo_hopper.toml");
+const EXIT_CODES: &str = "Exit codes:
+  0    success (or paused at --stop-at-step with a checkpoint)
+  1    bad input (one line names the key, the value and what is allowed; nothing is
+       written) or an output that could not be written
+  2    a validation check failed (see summary.json)
+  3    the run went unstable (NaN, runaway overlap, CFL breach); the output written
+       before that point is kept
+  130  interrupted by Ctrl-C or SIGTERM (DEM runs write a checkpoint first)";
 
 #[derive(Parser)]
 #[command(
     name = "grains",
     version,
-    about = "Simulation suite for granular materials under extreme loading"
+    about = "Simulation suite for granular materials under extreme loading",
+    after_help = EXIT_CODES
 )]
 struct Cli {
     #[command(subcommand)]
@@ -32,6 +35,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run a scenario (no argument: the built-in demo).
+    #[command(after_help = EXIT_CODES)]
     Run {
         /// Scenario file (TOML).
         scenario: Option<PathBuf>,
@@ -45,7 +49,8 @@ enum Command {
         #[arg(long)]
         stop_at_step: Option<u64>,
     },
-    /// Continue a run from the checkpoint in its output directory.
+    /// Continue a DEM run from the checkpoint in its output directory.
+    #[command(after_help = EXIT_CODES)]
     Resume {
         /// The run's output directory (holding scenario.toml and checkpoint.bin).
         dir: PathBuf,
@@ -56,15 +61,20 @@ enum Command {
         #[arg(long)]
         stop_at_step: Option<u64>,
     },
-    /// Validate a scenario without running it and print derived figures.
+    /// Validate a scenario without running it and print derived figures: particles,
+    /// time step, steps, memory and wall-time estimates.
     Check {
         /// Scenario file (TOML).
         scenario: PathBuf,
         /// Print the figures as JSON.
         #[arg(long)]
         json: bool,
+        /// Threads the wall-time estimate is for (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
     },
-    /// Generate a dense packing from a spec (TOML); writes packing.txt, a frame, plots, summary.json.
+    /// Generate a dense packing from a spec (TOML); writes packing.txt, a frame, plots,
+    /// summary.json.
     Pack {
         /// Packing spec (TOML).
         spec: PathBuf,
@@ -75,7 +85,8 @@ enum Command {
         #[arg(long)]
         threads: Option<usize>,
     },
-    /// Analyse a packing file (`x y r`) or a DEM frame (.vtp): psi6, contacts, fabric, sizes.
+    /// Analyse a packing file (`x y r`) or a DEM frame (.vtp): psi6, contacts, fabric,
+    /// sizes.
     Analyze {
         /// Packing file or VTP frame.
         file: PathBuf,
@@ -86,29 +97,70 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Measure speed.
+    /// Measure speed; prints `particle-steps/s: X` last.
     Bench {
         #[command(subcommand)]
-        what: bench::BenchCommand,
+        what: BenchCommand,
     },
 }
 
-/// Which engine a scenario file is for: its top-level `engine` key.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Engine {
-    Dem,
-    Mpm,
-    FemDem,
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// The DEM engine on a bed of disks with the peer benchmark's physics (LAMMPS
+    /// gran/hooke/history).
+    Dem {
+        /// Number of disks in a bed grains builds itself (ignored with --lammps-data).
+        #[arg(long, default_value_t = 20_000)]
+        particles: usize,
+        /// Start from this LAMMPS data file (atom_style sphere), as the peer benchmark
+        /// does.
+        #[arg(long)]
+        lammps_data: Option<PathBuf>,
+        /// Repeat the data file's bed this many times side by side along x (18 × the
+        /// 100 k bed is 1.8 M disks).
+        #[arg(long, default_value_t = 1)]
+        tile: usize,
+        /// Timed steps.
+        #[arg(long, default_value_t = 2000)]
+        steps: u64,
+        /// Worker threads.
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+    /// The MPM engine: an elastic block (or two in contact) falling in a walled box.
+    Mpm {
+        /// Material points.
+        #[arg(long, default_value_t = 32_768)]
+        particles: usize,
+        /// Cells per side of the unit box.
+        #[arg(long, default_value_t = 128)]
+        grid: usize,
+        /// Timed steps.
+        #[arg(long, default_value_t = 2000)]
+        steps: u64,
+        /// Worker threads.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// 1: one block; 2: two stacked blocks in frictional contact.
+        #[arg(long, default_value_t = 1)]
+        bodies: usize,
+        /// Shape function: linear, gimp or bspline2 (default: the peer's quadratic
+        /// B-spline).
+        #[arg(long, default_value = "bspline2")]
+        shape: String,
+        /// Stress update: usf, usl, usavg or musl (default: USL, two passes like the
+        /// peer).
+        #[arg(long, default_value = "usl")]
+        update: String,
+    },
 }
 
-/// Exit codes: 1 bad input (nothing written), 2 a check failed, 3 the run went unstable.
 fn main() -> ExitCode {
     tracing_subscriber::fmt()
         .with_env_filter(tracing_subscriber::EnvFilter::from_default_env())
         .with_writer(std::io::stderr)
         .init();
-    let cli = Cli::parse();
-    match cli.command {
+    let result = match Cli::parse().command {
         Command::Run {
             scenario,
             out,
@@ -120,94 +172,47 @@ fn main() -> ExitCode {
             threads,
             stop_at_step,
         } => cmd_resume(&dir, threads, stop_at_step),
-        Command::Check { scenario, json } => cmd_check(&scenario, json),
-        Command::Bench { what } => bench::cmd_bench(what),
-        Command::Pack { spec, out, threads } => pack_cmd::cmd_pack(&spec, out, threads),
-        Command::Analyze { file, out, json } => analyze_cmd::cmd_analyze(&file, out, json),
-    }
+        Command::Check {
+            scenario,
+            json,
+            threads,
+        } => cmd_check(&scenario, json, threads),
+        Command::Pack { spec, out, threads } => cmd_pack(&spec, out, threads),
+        Command::Analyze { file, out, json } => cmd_analyze(&file, out, json),
+        Command::Bench { what } => cmd_bench(what),
+    };
+    result.unwrap_or_else(|(code, msg)| fail(code, &msg))
 }
 
-/// A scenario's text, where it came from, and the directory its relative paths start at.
-struct Source {
-    text: String,
-    origin: String,
-    base: PathBuf,
+/// An error to report: exit code and one line.
+type Failure = (u8, String);
+
+fn input(msg: impl std::fmt::Display) -> Failure {
+    (1, msg.to_string())
 }
 
-fn read_source(path: Option<&Path>) -> Result<Source, String> {
-    match path {
-        Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| format!("{}: cannot read scenario: {e}", p.display()))?;
-            Ok(Source {
-                text,
-                origin: p.display().to_string(),
-                base: p.parent().map(Path::to_path_buf).unwrap_or_default(),
-            })
+/// Sets the worker count of the global pool; returns the count in use.
+fn set_threads(threads: Option<usize>) -> Result<usize, Failure> {
+    if let Some(t) = threads {
+        if t == 0 {
+            return Err(input("--threads = 0: must be at least 1"));
         }
-        None => {
-            eprintln!("grains: no scenario given, running the built-in demo (examples/dem/demo_hopper.toml)");
-            Ok(Source {
-                text: DEMO.to_string(),
-                origin: "demo_hopper.toml".into(),
-                base: PathBuf::from("."),
-            })
-        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build_global()
+            .map_err(|e| input(format!("cannot start {t} threads: {e}")))?;
     }
+    Ok(rayon::current_num_threads())
 }
 
-/// Reads the `engine` key without interpreting the rest, so each engine can parse its own
-/// scenario type strictly.
-fn engine_of(src: &Source) -> Result<Engine, String> {
-    let value: toml::Table = toml::from_str(&src.text).map_err(|e| {
-        let line = e.span().map(|s| {
-            src.text[..s.start.min(src.text.len())]
-                .matches('\n')
-                .count()
-                + 1
-        });
-        let at = line.map(|l| format!(" line {l}:")).unwrap_or_default();
-        format!(
-            "{}:{at} not a valid TOML file: {}",
-            src.origin,
-            e.message().replace('\n', " ").trim()
-        )
-    })?;
-    match value.get("engine") {
-        None => Ok(Engine::Dem),
-        Some(toml::Value::String(s)) if s == "dem" => Ok(Engine::Dem),
-        Some(toml::Value::String(s)) if s == "mpm" => Ok(Engine::Mpm),
-        Some(toml::Value::String(s)) if s == "fem_dem" => Ok(Engine::FemDem),
-        Some(other) => Err(format!(
-            "{}: engine = {other}: must be one of \"dem\", \"mpm\", \"fem_dem\"",
-            src.origin
-        )),
-    }
-}
-
-fn cmd_resume(dir: &Path, threads: Option<usize>, stop_at_step: Option<u64>) -> ExitCode {
-    let src = match read_source(Some(&dir.join("scenario.toml"))) {
-        Ok(s) => s,
-        Err(e) => return fail(1, &e),
-    };
-    let engine = match engine_of(&src) {
-        Ok(e) => e,
-        Err(e) => return fail(1, &e),
-    };
-    let threads = match set_threads(threads) {
-        Ok(t) => t,
-        Err(e) => return fail(1, &e),
-    };
+fn options(out: PathBuf, threads: usize, stop_at_step: Option<u64>) -> RunOptions<'static> {
     interrupt::install();
-    match engine {
-        Engine::Dem => dem::cmd_resume(dir, threads, stop_at_step),
-        other => fail(
-            1,
-            &format!(
-                "{}: resume is supported for engine = \"dem\" runs, this one is {other:?}",
-                dir.display()
-            ),
-        ),
+    RunOptions {
+        out,
+        threads,
+        stop_at_step,
+        interrupt: Some(&interrupt::REQUESTED),
+        progress: Box::new(progress::Bar::new()),
     }
 }
 
@@ -216,67 +221,36 @@ fn cmd_run(
     out: Option<PathBuf>,
     threads: Option<usize>,
     stop_at_step: Option<u64>,
-) -> ExitCode {
-    let src = match read_source(path) {
-        Ok(s) => s,
-        Err(e) => return fail(1, &e),
-    };
-    let engine = match engine_of(&src) {
-        Ok(e) => e,
-        Err(e) => return fail(1, &e),
-    };
-    let threads = match set_threads(threads) {
-        Ok(t) => t,
-        Err(e) => return fail(1, &e),
-    };
-    match engine {
-        Engine::Dem => {
-            interrupt::install();
-            dem::cmd_run(
-                &src.text,
-                &src.origin,
-                &src.base,
-                out,
-                threads,
-                stop_at_step,
-            )
+) -> Result<ExitCode, Failure> {
+    let src = match path {
+        Some(p) => Source::read(p).map_err(input)?,
+        None => {
+            eprintln!("grains: no scenario given, running the built-in demo (examples/dem/demo_hopper.toml)");
+            Source::demo()
         }
-        Engine::Mpm => mpm::cmd_run(&src.text, &src.origin, &src.base, out, threads),
-        Engine::FemDem => blast::cmd_run(&src.text, &src.origin, &src.base, out, threads),
-    }
-}
-
-fn cmd_check(path: &Path, json: bool) -> ExitCode {
-    let src = match read_source(Some(path)) {
-        Ok(s) => s,
-        Err(e) => return fail(1, &e),
     };
-    match engine_of(&src) {
-        Ok(Engine::Dem) => dem::check::cmd_check(&src.text, &src.origin, &src.base, json),
-        Ok(Engine::Mpm) => mpm::cmd_check(&src.text, &src.origin, &src.base, json),
-        Ok(Engine::FemDem) => blast::check::cmd_check(&src.text, &src.origin, &src.base, json),
-        Err(e) => fail(1, &e),
-    }
+    let threads = set_threads(threads)?;
+    let scn = grains_sim::scenario::parse(&src).map_err(input)?;
+    let out = out.unwrap_or_else(|| driver::default_out(scn.name()));
+    report(sim_run::run(&src, options(out, threads, stop_at_step)))
 }
 
-/// Sets the worker count of the global pool; returns the count in use.
-pub fn set_threads(threads: Option<usize>) -> Result<usize, String> {
-    if let Some(t) = threads {
-        if t == 0 {
-            return Err("--threads = 0: must be at least 1".into());
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build_global()
-            .map_err(|e| format!("cannot start {t} threads: {e}"))?;
-    }
-    Ok(rayon::current_num_threads())
+fn cmd_resume(
+    dir: &Path,
+    threads: Option<usize>,
+    stop_at_step: Option<u64>,
+) -> Result<ExitCode, Failure> {
+    let threads = set_threads(threads)?;
+    report(sim_run::resume(
+        dir,
+        options(dir.to_path_buf(), threads, stop_at_step),
+    ))
 }
 
-/// Prints the checks and turns the end of a run into its exit code: 3 unstable,
-/// 2 a check failed, 0 otherwise.
-pub fn report(checks: &[Check], unstable: Option<&str>, out: &Path) -> ExitCode {
-    for c in checks {
+/// Prints the checks and turns the end of a run into its exit code.
+fn report(result: Result<Finished, RunError>) -> Result<ExitCode, Failure> {
+    let done = result.map_err(input)?;
+    for c in &done.checks {
         eprintln!(
             "  check {:32} measured {:>12.6e}  expected {:>12.6e}  {}",
             c.name,
@@ -285,31 +259,159 @@ pub fn report(checks: &[Check], unstable: Option<&str>, out: &Path) -> ExitCode 
             if c.pass { "pass" } else { "FAIL" }
         );
     }
-    if let Some(msg) = unstable {
-        return fail(
+    let out = done.out.display();
+    match &done.status {
+        Status::Unstable(m) => Err((
             3,
-            &format!(
-                "run stopped, unstable at {msg}; last good output kept in {}",
+            format!("run stopped, unstable at {m}; last good output kept in {out}"),
+        )),
+        Status::Interrupted => Err((
+            130,
+            format!(
+                "interrupted; continue with `grains resume {out}` where a checkpoint was written"
+            ),
+        )),
+        Status::Paused => {
+            eprintln!("grains: paused with a checkpoint; continue with `grains resume {out}`");
+            Ok(ExitCode::SUCCESS)
+        }
+        Status::Completed | Status::AtRest => {
+            let failed = done.checks.iter().filter(|c| !c.pass).count();
+            if failed > 0 {
+                return Err((
+                    2,
+                    format!("{failed} check(s) failed; see {out}/summary.json"),
+                ));
+            }
+            eprintln!("grains: done ({}); outputs in {out}", done.status.name());
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+fn cmd_check(path: &Path, json: bool, threads: Option<usize>) -> Result<ExitCode, Failure> {
+    let src = Source::read(path).map_err(input)?;
+    let threads = threads.unwrap_or_else(rayon::current_num_threads);
+    let d = check::check(&src, threads).map_err(input)?;
+    if json {
+        let text = serde_json::to_string_pretty(&d.json()).map_err(input)?;
+        println!("{text}");
+    } else {
+        print!("{}", d.text());
+        println!("ok");
+    }
+    Ok(if d.checks.iter().all(|c| c.pass) {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
+    })
+}
+
+fn cmd_pack(
+    spec: &Path,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+) -> Result<ExitCode, Failure> {
+    let (s, text, v) = grains_sim::pack::prepare(spec).map_err(input)?;
+    let threads = set_threads(threads)?;
+    let out = out.unwrap_or_else(|| driver::default_out(&s.name));
+    eprintln!(
+        "grains: pack {} — about {:.0} disks of d0 = {:.4e} m, {threads} threads → {}",
+        s.name,
+        v.estimated_particles,
+        v.d0,
+        out.display()
+    );
+    let done = grains_sim::pack::pack(&s, &text, &v, &out, &mut |line| eprintln!("  {line}"))
+        .map_err(|e| input(format!("{e:#}")))?;
+    print!("{}", grains_sim::analyze::main_figures(&done.summary));
+    let failed = done.checks.iter().filter(|c| !c.pass).count();
+    for c in &done.checks {
+        eprintln!(
+            "  check {:32} measured {:>12.6e}  limit {:>12.6e}  {}",
+            c.name,
+            c.measured,
+            c.expected,
+            if c.pass { "pass" } else { "FAIL" }
+        );
+    }
+    if failed > 0 {
+        return Err((
+            2,
+            format!(
+                "{failed} check(s) failed; see {}/summary.json",
                 out.display()
             ),
-        );
-    }
-    let failed = checks.iter().filter(|c| !c.pass).count();
-    if failed > 0 {
-        return fail(
-            2,
-            &format!(
-                "{failed} check(s) failed; see {}",
-                out.join("summary.json").display()
-            ),
-        );
+        ));
     }
     eprintln!("grains: done; outputs in {}", out.display());
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
+}
+
+fn cmd_analyze(file: &Path, out: Option<PathBuf>, json: bool) -> Result<ExitCode, Failure> {
+    let stem = file
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_else(|| "sample".into());
+    let out = out.unwrap_or_else(|| driver::default_out(&format!("analyze_{stem}")));
+    let figures = grains_sim::analyze::analyze(file, &out).map_err(input)?;
+    if json {
+        let v = serde_json::Value::Object(figures);
+        println!("{}", serde_json::to_string_pretty(&v).map_err(input)?);
+    } else {
+        print!("{}", grains_sim::analyze::main_figures(&figures));
+        eprintln!(
+            "grains: analysis of {} written to {}",
+            file.display(),
+            out.display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn cmd_bench(what: BenchCommand) -> Result<ExitCode, Failure> {
+    let r = match what {
+        BenchCommand::Dem {
+            particles,
+            lammps_data,
+            tile,
+            steps,
+            threads,
+        } => {
+            set_threads(threads)?;
+            let bed = match lammps_data {
+                Some(path) => bench::dem::Bed::LammpsData(path, tile),
+                None => bench::dem::Bed::Built(particles),
+            };
+            bench::dem::run(&bed, steps)
+        }
+        BenchCommand::Mpm {
+            particles,
+            grid,
+            steps,
+            threads,
+            bodies,
+            shape,
+            update,
+        } => {
+            set_threads(threads)?;
+            bench::mpm::run(&bench::mpm::Options {
+                particles,
+                grid,
+                steps,
+                bodies,
+                shape,
+                update,
+            })
+        }
+    }
+    .map_err(input)?;
+    print!("{}", r.text());
+    Ok(ExitCode::SUCCESS)
 }
 
 /// Prints a one-line error and returns the exit code.
-pub fn fail(code: u8, msg: &str) -> ExitCode {
+fn fail(code: u8, msg: &str) -> ExitCode {
     eprintln!("grains: error: {msg}");
     ExitCode::from(code)
 }

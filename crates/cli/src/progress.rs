@@ -1,61 +1,65 @@
-//! Progress reporting: a bar with ETA on a terminal, plain lines every 10 % otherwise.
+//! Progress on the terminal: a bar with ETA, or plain lines every 10 % when stderr is
+//! not a terminal (batch jobs, logs).
 
+use grains_sim::driver::{Clock, Progress};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::time::Instant;
 
-/// Reports how far a run of `total` steps has got.
-pub struct Progress {
+/// The CLI's progress display.
+pub struct Bar {
     bar: Option<ProgressBar>,
-    total: u64,
-    next_line: u64,
+    next_line: f64,
     started: Instant,
-    stride: u64,
 }
 
-impl Progress {
+impl Bar {
     /// A bar on a terminal, plain lines on anything else.
-    pub fn new(total: u64) -> Self {
+    pub fn new() -> Self {
         let bar = std::io::stderr().is_terminal().then(|| {
-            let b = ProgressBar::new(total);
+            let b = ProgressBar::new(1000);
             b.set_style(
                 ProgressStyle::with_template(
-                    "{bar:40} {pos}/{len} steps  {elapsed} elapsed, ETA {eta}",
+                    "{bar:40} {percent:>3}%  {msg}  {elapsed} elapsed, ETA {eta}",
                 )
                 .unwrap_or_else(|_| ProgressStyle::default_bar()),
             );
             b
         });
-        Progress {
+        Bar {
             bar,
-            total,
-            next_line: total / 10,
+            next_line: 0.1,
             started: Instant::now(),
-            stride: (total / 500).max(1),
         }
     }
+}
 
-    /// Called after each step.
-    pub fn tick(&mut self, step: u64) {
-        if !step.is_multiple_of(self.stride) {
-            return;
-        }
+impl Progress for Bar {
+    fn announce(&mut self, line: &str) {
+        eprintln!("grains: {line}");
+    }
+
+    fn update(&mut self, done: f64, c: Clock) {
+        let permille = (1000.0 * done.clamp(0.0, 1.0)) as u64;
         if let Some(b) = &self.bar {
-            b.set_position(step);
-        } else if step >= self.next_line && self.total > 0 {
-            let pct = 100 * step / self.total;
+            if permille != b.position() {
+                b.set_position(permille);
+                b.set_message(format!("step {}, t = {:.4e} s", c.step, c.time));
+            }
+        } else if done >= self.next_line {
             let secs = self.started.elapsed().as_secs_f64();
-            let eta = secs * (self.total - step) as f64 / step.max(1) as f64;
+            let eta = secs * (1.0 - done) / done.max(1e-9);
             eprintln!(
-                "  {pct:3}%  step {step}/{}  {secs:.1} s elapsed, ETA {eta:.1} s",
-                self.total
+                "  {:3.0}%  step {}  t = {:.4e} s  {secs:.1} s elapsed, ETA {eta:.1} s",
+                100.0 * done,
+                c.step,
+                c.time
             );
-            self.next_line += (self.total / 10).max(1);
+            self.next_line += 0.1;
         }
     }
 
-    /// Clears the bar.
-    pub fn finish(&self) {
+    fn finish(&mut self) {
         if let Some(b) = &self.bar {
             b.finish_and_clear();
         }

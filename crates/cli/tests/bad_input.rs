@@ -1,8 +1,8 @@
 //! Every kind of bad input is refused with one line naming the key, the value and what
 //! is allowed, exit code 1, and no output directory.
 
-use std::path::Path;
-use std::process::Command;
+mod common;
+use common::*;
 
 const BASE: &str = r#"
 name = "bad"
@@ -35,45 +35,11 @@ b = [0.01, 0.0]
 duration = 1.0e-7
 "#;
 
-/// Runs `grains run` on `text` in a fresh directory; returns (exit code, stderr, whether
-/// an output directory appeared).
-fn run(text: &str) -> (i32, String, bool) {
-    let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("s.toml");
-    std::fs::write(&file, text).unwrap();
-    let out = dir.path().join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_grains"))
-        .args([
-            "run",
-            file.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr).to_string();
-    (o.status.code().unwrap_or(-1), err, Path::new(&out).exists())
-}
-
-fn refused(text: &str, must_contain: &[&str]) {
-    let (code, err, wrote) = run(text);
-    assert_eq!(code, 1, "exit code; stderr: {err}");
-    assert!(!wrote, "an output directory was written");
-    let line = err
-        .lines()
-        .find(|l| l.contains("error"))
-        .unwrap_or_default()
-        .to_string();
-    for s in must_contain {
-        assert!(line.contains(s), "error line {line:?} lacks {s:?}");
-    }
-}
-
 #[test]
 fn the_base_scenario_runs() {
-    let (code, err, wrote) = run(BASE);
-    assert_eq!(code, 0, "{err}");
-    assert!(wrote);
+    let (out, dir) = run_text(BASE, &[], &[]);
+    assert_eq!(out.code, 0, "{}", out.stderr);
+    assert!(dir.path().join("out").exists());
 }
 
 #[test]
@@ -177,12 +143,9 @@ fn check_json_reports_derived_figures() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("s.toml");
     std::fs::write(&file, BASE).unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_grains"))
-        .args(["check", file.to_str().unwrap(), "--json"])
-        .output()
-        .unwrap();
-    assert!(o.status.success());
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let o = grains(&["check", file.to_str().unwrap(), "--json"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
     assert_eq!(v["particles"], 1);
     assert!(v["dt"].as_f64().unwrap() > 0.0);
     assert!(v["dt"].as_f64().unwrap() <= v["dt_critical"].as_f64().unwrap());

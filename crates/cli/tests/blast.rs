@@ -2,8 +2,8 @@
 //! ring runs and reports its figures, `grains check` prints F/B, and bad input is
 //! refused with one line naming the key and value, exit 1 and no output directory.
 
-use std::path::Path;
-use std::process::Command;
+mod common;
+use common::*;
 
 /// A 4 mm TNT charge on a coarse mesh: fast, and still within the checks' bounds.
 const CHARGE: &str = r#"
@@ -79,43 +79,10 @@ expected = 1.15
 tolerance = 0.1
 "#;
 
-fn grains(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_grains"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).to_string(),
-        String::from_utf8_lossy(&o.stderr).to_string(),
-    )
-}
-
-fn run(text: &str, extra: Option<(&str, &str)>) -> (i32, String, tempfile::TempDir) {
-    let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("s.toml");
-    std::fs::write(&file, text).unwrap();
-    if let Some((name, body)) = extra {
-        std::fs::write(dir.path().join(name), body).unwrap();
-    }
-    let out = dir.path().join("out");
-    let (code, _, err) = grains(&[
-        "run",
-        file.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    (code, err, dir)
-}
-
-fn summary(dir: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap()
-}
-
 #[test]
 fn bare_charge_conserves_energy_and_detonates_at_d_cj() {
-    let (code, err, dir) = run(CHARGE, None);
-    assert_eq!(code, 0, "{err}");
+    let (out, dir) = run_text(CHARGE, &[], &[]);
+    assert_eq!(out.code, 0, "{}", out.stderr);
     let s = summary(dir.path());
     for c in s["checks"].as_array().unwrap() {
         assert_eq!(c["pass"], true, "{c}");
@@ -135,8 +102,8 @@ fn bare_charge_conserves_energy_and_detonates_at_d_cj() {
 
 #[test]
 fn small_ring_runs_coupled() {
-    let (code, err, dir) = run(RING, None);
-    assert_eq!(code, 0, "{err}");
+    let (out, dir) = run_text(RING, &[], &[]);
+    assert_eq!(out.code, 0, "{}", out.stderr);
     let s = summary(dir.path());
     let f = &s["figures"];
     let fb = f["fill_to_burster_ratio"].as_f64().unwrap();
@@ -183,33 +150,18 @@ fn check_reports_particles_and_fill_to_burster() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("s.toml");
     std::fs::write(&file, RING).unwrap();
-    let (code, out, err) = grains(&["check", file.to_str().unwrap(), "--json"]);
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let o = grains(&["check", file.to_str().unwrap(), "--json"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
     assert!(v["particles"].as_u64().unwrap() > 300);
     assert!(v["fill_to_burster_ratio"].as_f64().unwrap() > 1.0);
     assert_eq!(v["checks"][0]["pass"], true);
-}
-
-fn refused(text: &str, extra: Option<(&str, &str)>, must_contain: &[&str]) {
-    let (code, err, dir) = run(text, extra);
-    assert_eq!(code, 1, "exit code; stderr: {err}");
-    assert!(
-        !dir.path().join("out").exists(),
-        "an output directory was written"
-    );
-    let line = err.trim();
-    assert_eq!(line.lines().count(), 1, "one line: {line}");
-    for m in must_contain {
-        assert!(line.contains(m), "{line:?} lacks {m:?}");
-    }
 }
 
 #[test]
 fn unknown_explosive() {
     refused(
         &RING.replace("\"pe4\"", "\"semtex\""),
-        None,
         &["charge.explosive", "semtex", "tnt"],
     );
 }
@@ -221,7 +173,6 @@ fn unknown_ring_material() {
             "material = \"quartz\"\ninner",
             "material = \"granite\"\ninner",
         ),
-        None,
         &["ring.material", "granite"],
     );
 }
@@ -241,14 +192,13 @@ fn non_positive_eos_parameter() {
         "[charge]\nradius = 0.004\n",
         1,
     );
-    refused(&custom, None, &["charge.custom.jwl.r1", "-4.15", "> 0"]);
+    refused(&custom, &["charge.custom.jwl.r1", "-4.15", "> 0"]);
 }
 
 #[test]
 fn mesh_too_coarse() {
     refused(
         &CHARGE.replace("size_edge = 0.1e-3", "size_edge = 1.0e-3"),
-        None,
         &["charge.mesh.size_edge", "too coarse"],
     );
 }
@@ -257,7 +207,6 @@ fn mesh_too_coarse() {
 fn charge_overlapping_ring() {
     refused(
         &RING.replace("\nradius = 0.002\n", "\nradius = 0.0022\n"),
-        None,
         &["charge.radius", "overlaps the ring"],
     );
 }
@@ -269,9 +218,10 @@ fn packing_that_does_not_fit_the_ring() {
         "source = \"file\"\npath = \"pack.txt\"",
     );
     let pack = "# x y r\n0.0025 0.0 5e-5\n0.0 0.0031 5e-5\n";
-    refused(
-        &text,
-        Some(("pack.txt", pack)),
+    let (out, dir) = run_text(&text, &[("pack.txt", pack)], &[]);
+    assert_refused(
+        &out,
+        dir.path(),
         &["ring.packing.path", "pack.txt", "does not fit the ring"],
     );
 }
@@ -280,7 +230,7 @@ fn packing_that_does_not_fit_the_ring() {
 /// rings) stay valid scenarios.
 #[test]
 fn self_contained_examples_validate() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/xue2019");
+    let dir = example("xue2019");
     let mut seen = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
@@ -288,8 +238,8 @@ fn self_contained_examples_validate() {
         if !(name.starts_with("ring_small") || name == "charge_only.toml") {
             continue;
         }
-        let (code, _, err) = grains(&["check", path.to_str().unwrap(), "--json"]);
-        assert_eq!(code, 0, "{name}: {err}");
+        let o = grains(&["check", path.to_str().unwrap(), "--json"]);
+        assert_eq!(o.code, 0, "{name}: {}", o.stderr);
         seen += 1;
     }
     assert!(seen >= 6, "found only {seen} self-contained examples");
@@ -301,17 +251,16 @@ fn self_contained_examples_validate() {
 #[test]
 #[ignore]
 fn elastic_ring_keeps_the_charges_work() {
-    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples/xue2019/ring_small_elastic.toml");
+    let file = example("xue2019/ring_small_elastic.toml");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let (code, _, err) = grains(&[
+    let o = grains(&[
         "run",
         file.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
+    assert_eq!(o.code, 0, "{}", o.stderr);
     let s = summary(dir.path());
     assert_eq!(s["checks"][0]["name"], "ring_energy_transfer_error");
     assert_eq!(s["checks"][0]["pass"], true, "{}", s["checks"][0]);

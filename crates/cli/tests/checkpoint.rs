@@ -1,6 +1,8 @@
 //! Checkpoints through the binary: a run paused and resumed ends bitwise where a straight
 //! run ends; damaged checkpoints are refused with a clear error.
 
+mod common;
+use common::*;
 use std::path::Path;
 use std::process::Command;
 
@@ -47,19 +49,27 @@ checkpoint_every = 500
 lammps_dump = true
 "#;
 
-fn grains(args: &[&str]) -> (i32, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_grains"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stderr).to_string(),
-    )
+/// `grains ARGS`: (exit code, stderr).
+fn run(args: &[&str]) -> (i32, String) {
+    let o = grains(args);
+    (o.code, o.stderr)
 }
 
-fn summary(dir: &Path) -> serde_json::Value {
+fn summary_in(dir: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+}
+
+/// A copy of a run directory's files (frames left out).
+fn copy_run(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for f in [
+        "scenario.toml",
+        "summary.json",
+        "history.csv",
+        "checkpoint.bin",
+    ] {
+        std::fs::copy(from.join(f), to.join(f)).unwrap();
+    }
 }
 
 #[test]
@@ -69,9 +79,9 @@ fn pause_and_resume_match_a_straight_run() {
     std::fs::write(&file, SCENARIO).unwrap();
     let (a, b) = (tmp.path().join("straight"), tmp.path().join("paused"));
     let f = file.to_str().unwrap();
-    let (code, err) = grains(&["run", f, "--out", a.to_str().unwrap(), "--threads", "1"]);
+    let (code, err) = run(&["run", f, "--out", a.to_str().unwrap(), "--threads", "1"]);
     assert_eq!(code, 0, "{err}");
-    let (code, err) = grains(&[
+    let (code, err) = run(&[
         "run",
         f,
         "--out",
@@ -82,10 +92,12 @@ fn pause_and_resume_match_a_straight_run() {
         "2",
     ]);
     assert_eq!(code, 0, "{err}");
-    assert_eq!(summary(&b)["status"], "paused");
-    let (code, err) = grains(&["resume", b.to_str().unwrap(), "--threads", "2"]);
+    assert_eq!(summary_in(&b)["status"], "paused");
+    let damaged = tmp.path().join("damaged");
+    copy_run(&b, &damaged);
+    let (code, err) = run(&["resume", b.to_str().unwrap(), "--threads", "2"]);
     assert_eq!(code, 0, "{err}");
-    let (sa, sb) = (summary(&a), summary(&b));
+    let (sa, sb) = (summary_in(&a), summary_in(&b));
     assert_eq!(sb["status"], "completed");
     assert_eq!(sa["steps"], sb["steps"]);
     assert_eq!(
@@ -106,21 +118,39 @@ fn pause_and_resume_match_a_straight_run() {
     assert!(dump.contains("ITEM: ATOMS id type x y z radius vx vy vz omegaz fx fy fz"));
     assert_eq!(dump.lines().count(), 9 + 300);
 
+    // A finished run is not resumed; a new run into its directory starts afresh, with
+    // no stale checkpoint left behind.
+    let (code, err) = run(&["resume", b.to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("already finished"), "{err}");
+    let stale = tmp.path().join("stale");
+    copy_run(&damaged, &stale);
+    let plain = tmp.path().join("plain.toml");
+    std::fs::write(&plain, SCENARIO.replace("checkpoint_every = 500\n", "")).unwrap();
+    let p = plain.to_str().unwrap();
+    let (code, err) = run(&["run", p, "--out", stale.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        !stale.join("checkpoint.bin").exists(),
+        "a stale checkpoint was left"
+    );
+
     // A truncated or corrupted checkpoint is refused with a clear error.
+    let b = damaged;
     let ck = b.join("checkpoint.bin");
     let bytes = std::fs::read(&ck).unwrap();
     std::fs::write(&ck, &bytes[..bytes.len() / 2]).unwrap();
-    let (code, err) = grains(&["resume", b.to_str().unwrap()]);
+    let (code, err) = run(&["resume", b.to_str().unwrap()]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("corrupted or truncated"), "{err}");
     let mut flipped = bytes.clone();
     flipped[bytes.len() / 3] ^= 0x40;
     std::fs::write(&ck, &flipped).unwrap();
-    let (code, err) = grains(&["resume", b.to_str().unwrap()]);
+    let (code, err) = run(&["resume", b.to_str().unwrap()]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("checksum"), "{err}");
     std::fs::write(&ck, b"not a checkpoint").unwrap();
-    let (code, err) = grains(&["resume", b.to_str().unwrap()]);
+    let (code, err) = run(&["resume", b.to_str().unwrap()]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("not a grains checkpoint"), "{err}");
 }
@@ -149,13 +179,13 @@ fn sigterm_writes_a_checkpoint_and_resume_goes_on_exactly() {
     assert!(killed.success());
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(130));
-    let s = summary(&a);
+    let s = summary_in(&a);
     assert_eq!(s["status"], "interrupted");
     let stop = s["steps"].as_u64().unwrap() + 123;
     let stop = stop.to_string();
-    let (code, err) = grains(&["resume", a.to_str().unwrap(), "--stop-at-step", &stop]);
+    let (code, err) = run(&["resume", a.to_str().unwrap(), "--stop-at-step", &stop]);
     assert_eq!(code, 0, "{err}");
-    let (code, err) = grains(&[
+    let (code, err) = run(&[
         "run",
         file.to_str().unwrap(),
         "--out",
@@ -164,7 +194,7 @@ fn sigterm_writes_a_checkpoint_and_resume_goes_on_exactly() {
         &stop,
     ]);
     assert_eq!(code, 0, "{err}");
-    let (sa, sb) = (summary(&a), summary(&b));
+    let (sa, sb) = (summary_in(&a), summary_in(&b));
     assert_eq!(sa["steps"], sb["steps"]);
     assert_eq!(sa["state_hash"], sb["state_hash"]);
 }

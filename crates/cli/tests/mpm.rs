@@ -2,8 +2,8 @@
 //! and what is allowed (exit 1, nothing written); a short bounce writes every output and
 //! its checks; `grains check` and `grains bench mpm` answer.
 
-use std::path::Path;
-use std::process::Command;
+mod common;
+use common::*;
 
 const BASE: &str = r#"
 engine = "mpm"
@@ -63,58 +63,10 @@ impact = 1
 tolerance = 0.15
 "#;
 
-fn grains(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_grains"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).to_string(),
-        String::from_utf8_lossy(&o.stderr).to_string(),
-    )
-}
-
-/// Runs `grains run` on `text`; returns (exit code, stderr, output directory).
-fn run(text: &str) -> (i32, String, tempfile::TempDir) {
-    let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("s.toml");
-    std::fs::write(&file, text).unwrap();
-    let out = dir.path().join("out");
-    let (code, _, err) = grains(&[
-        "run",
-        file.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    (code, err, dir)
-}
-
-fn refused(text: &str, must_contain: &[&str]) {
-    let (code, err, dir) = run(text);
-    assert_eq!(code, 1, "exit code; stderr: {err}");
-    assert!(
-        !dir.path().join("out").exists(),
-        "an output directory was written"
-    );
-    let line = err
-        .lines()
-        .find(|l| l.contains("error"))
-        .unwrap_or_default();
-    for s in must_contain {
-        assert!(line.contains(s), "error line {line:?} lacks {s:?}");
-    }
-    assert_eq!(
-        err.lines().filter(|l| l.contains("error")).count(),
-        1,
-        "{err}"
-    );
-}
-
 #[test]
 fn a_short_bounce_writes_everything_and_passes_its_checks() {
-    let (code, err, dir) = run(BASE);
-    assert_eq!(code, 0, "{err}");
+    let (o, dir) = run_text(BASE, &[], &[]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
     let out = dir.path().join("out");
     for f in [
         "scenario.toml",
@@ -172,9 +124,9 @@ fn a_point_leaving_the_grid_stops_the_run_with_exit_3() {
     let text = BASE
         .replace("right = { mu = 0.1 }", "")
         .replace("velocity = [0.1, 0.1]", "velocity = [1.0, 0.0]");
-    let (code, err, dir) = run(&text);
-    assert_eq!(code, 3, "{err}");
-    assert!(err.contains("outside the grid"), "{err}");
+    let (o, dir) = run_text(&text, &[], &[]);
+    assert_eq!(o.code, 3, "{}", o.stderr);
+    assert!(o.stderr.contains("outside the grid"), "{}", o.stderr);
     let out = dir.path().join("out");
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
@@ -187,9 +139,9 @@ fn check_prints_the_stable_step() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("s.toml");
     std::fs::write(&file, BASE).unwrap();
-    let (code, out, err) = grains(&["check", file.to_str().unwrap(), "--json"]);
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let o = grains(&["check", file.to_str().unwrap(), "--json"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
     let crit = v["dt_critical"].as_f64().unwrap();
     // h / (c + |v|) with c = √((K + 4G/3)/ρ) = 1.2910 and |v| = 0.1414.
     assert!(
@@ -201,7 +153,7 @@ fn check_prints_the_stable_step() {
 
 #[test]
 fn bench_prints_particle_steps_last() {
-    let (code, out, err) = grains(&[
+    let o = grains(&[
         "bench",
         "mpm",
         "--particles",
@@ -213,7 +165,8 @@ fn bench_prints_particle_steps_last() {
         "--threads",
         "1",
     ]);
-    assert_eq!(code, 0, "{err}");
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let out = o.stdout;
     assert!(
         out.trim_end()
             .lines()
@@ -222,7 +175,7 @@ fn bench_prints_particle_steps_last() {
             .starts_with("particle-steps/s: "),
         "{out}"
     );
-    let (code, _, err) = grains(&[
+    let o = grains(&[
         "bench",
         "mpm",
         "--particles",
@@ -234,8 +187,8 @@ fn bench_prints_particle_steps_last() {
         "--shape",
         "cubic",
     ]);
-    assert_eq!(code, 1);
-    assert!(err.contains("--shape = cubic"), "{err}");
+    assert_eq!(o.code, 1);
+    assert!(o.stderr.contains("--shape = cubic"), "{}", o.stderr);
 }
 
 #[test]
@@ -331,9 +284,5 @@ fn other_mistakes() {
         ),
         &["check[2].impact = 0"],
     );
-    let (code, _, _) = {
-        let p = Path::new("/nonexistent/x.toml");
-        grains(&["run", p.to_str().unwrap()])
-    };
-    assert_eq!(code, 1);
+    assert_eq!(grains(&["run", "/nonexistent/x.toml"]).code, 1);
 }

@@ -2,31 +2,18 @@
 //! `#[ignore]`d (run with `cargo test --release -p grains --test mpm_validation --
 //! --ignored`): together they take about a minute in a release build.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
+use common::*;
 
 /// Runs an example; returns its checks as (name, measured, pass).
 fn run(example: &str) -> Vec<(String, f64, bool)> {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/bardenhagen1998");
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_grains"))
-        .args([
-            "run",
-            root.join(example).to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    let code = o.status.code().unwrap_or(-1);
+    let (o, s) = run_example(&format!("bardenhagen1998/{example}"));
     assert!(
-        code == 0 || code == 2,
-        "{example}: exit {code}: {}",
-        String::from_utf8_lossy(&o.stderr)
+        o.code == 0 || o.code == 2,
+        "{example}: exit {}: {}",
+        o.code,
+        o.stderr
     );
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     s["checks"]
         .as_array()
         .unwrap()

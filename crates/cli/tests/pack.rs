@@ -2,8 +2,9 @@
 //! written, a small packing writes every output, is the same on 1 and 2 threads, and
 //! reads back through `grains analyze` and a DEM scenario.
 
+mod common;
+use common::*;
 use std::path::Path;
-use std::process::Command;
 
 const SPEC: &str = r#"
 name = "tiny"
@@ -29,22 +30,14 @@ figure = "packing_fraction_bulk"
 at_least = 0.8
 "#;
 
-fn grains(dir: &Path, args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_grains"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run grains");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+fn grains_at(dir: &Path, args: &[&str]) -> (i32, String, String) {
+    let o = grains_in(Some(dir), args);
+    (o.code, o.stdout, o.stderr)
 }
 
 fn pack(dir: &Path, text: &str, threads: &str) -> (i32, String) {
     std::fs::write(dir.join("spec.toml"), text).unwrap();
-    let (code, _, err) = grains(
+    let (code, _, err) = grains_at(
         dir,
         &["pack", "spec.toml", "--out", "out", "--threads", threads],
     );
@@ -166,7 +159,7 @@ fn small_packing_writes_everything_and_is_thread_independent() {
     assert!(summary["packing_fraction_bulk"].as_f64().unwrap() >= 0.8);
 
     // The packing file reads back through analyze with the same figures.
-    let (code, out, err) = grains(
+    let (code, out, err) = grains_at(
         one.path(),
         &["analyze", "out/packing.txt", "--out", "an", "--json"],
     );
@@ -182,11 +175,11 @@ fn small_packing_writes_everything_and_is_thread_independent() {
         let (x, y) = (again[k].as_f64().unwrap(), summary[k].as_f64().unwrap());
         assert!((x - y).abs() <= 1e-9 * y.abs().max(1.0), "{k}: {x} vs {y}");
     }
-    let (code, _, err) = grains(
+    let (code, _, err) = grains_at(
         one.path(),
         &["analyze", "out/frames/packing.vtp", "--out", "an2"],
     );
     assert_eq!(code, 0, "{err}");
-    let (code, _, err) = grains(one.path(), &["analyze", "missing.txt"]);
+    let (code, _, err) = grains_at(one.path(), &["analyze", "missing.txt"]);
     assert_eq!(code, 1, "{err}");
 }

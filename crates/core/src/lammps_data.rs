@@ -192,6 +192,21 @@ pub fn parse(text: &str, name: &str) -> Result<LammpsData, DataError> {
     Ok(data)
 }
 
+/// The atom count a data file's header declares (the `N atoms` line), read without the
+/// rest of the file; `None` if the file cannot be read or declares none.
+pub fn atom_count(path: &Path) -> Option<u64> {
+    use std::io::BufRead;
+    let f = std::fs::File::open(path).ok()?;
+    for line in std::io::BufReader::new(f).lines().take(100) {
+        let line = line.ok()?;
+        let words: Vec<&str> = line.split_whitespace().collect();
+        if words.len() == 2 && words[1] == "atoms" {
+            return words[0].parse().ok();
+        }
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -9,6 +9,9 @@
 //! - [`plot`]: PNG line plots and particle maps;
 //! - [`checks`]: pass/fail verification records for `summary.json`, written
 //!   with [`json`];
+//! - [`input`]: the one error type for rejected input (key, value, allowed) and the
+//!   one formatter for TOML errors;
+//! - [`hash`]: FNV-1a fingerprints of states and checksums of checkpoints;
 //! - [`rng`]: the one seeded random generator used everywhere, so runs are
 //!   reproducible;
 //! - [`lammps_data`]: reader for LAMMPS `atom_style sphere` data files, so
@@ -19,7 +22,9 @@
 
 pub mod atomic;
 pub mod checks;
+pub mod hash;
 pub mod history;
+pub mod input;
 pub mod json;
 pub mod lammps_data;
 pub mod plot;

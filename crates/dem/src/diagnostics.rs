@@ -159,6 +159,63 @@ pub fn contact_counts(setup: &Setup, s: &State) -> Vec<u32> {
     count
 }
 
+/// The most overlapping pair of listed particles: (id, id, overlap over the smaller
+/// radius), or `None` when no two touch. Coincident centres give an infinite ratio.
+pub fn deepest_overlap(setup: &Setup, s: &State) -> Option<(u32, u32, f64)> {
+    let p = &s.particles;
+    let list = &s.contacts;
+    let mut worst: Option<(u32, u32, f64)> = None;
+    for i in 0..p.len() {
+        for e in list.row[i] as usize..list.row[i + 1] as usize {
+            let j = list.nbr[e] as usize;
+            let dist = setup.domain.min_image(p.pos[j] - p.pos[i]).length();
+            let overlap = p.radius[i] + p.radius[j] - dist;
+            let ratio = if dist == 0.0 {
+                f64::INFINITY
+            } else {
+                overlap / p.radius[i].min(p.radius[j])
+            };
+            if overlap > 0.0 && worst.is_none_or(|w| ratio > w.2) {
+                worst = Some((p.id[i], p.id[j], ratio));
+            }
+        }
+    }
+    worst
+}
+
+/// Mean contact stress of each particle (Pa per unit thickness): the elastic normal
+/// forces K_n·overlap of its pair contacts (through the neighbour list), plus `extra`
+/// (outside pushes, N/m), over its perimeter 2πr — the trace of Love's average over
+/// the disk.
+pub fn contact_pressure(setup: &Setup, s: &State, extra: &[f64]) -> Vec<f64> {
+    let p = &s.particles;
+    let list = &s.contacts;
+    let n = p.len();
+    let mut sum: Vec<f64> = extra.to_vec();
+    sum.resize(n, 0.0);
+    if list.row.len() == n + 1 {
+        for i in 0..n {
+            for e in list.row[i] as usize..list.row[i + 1] as usize {
+                let j = list.nbr[e] as usize;
+                let dist = setup.domain.min_image(p.pos[j] - p.pos[i]).length();
+                let overlap = p.radius[i] + p.radius[j] - dist;
+                if overlap > 0.0 {
+                    let f = setup
+                        .pairs
+                        .get(p.material[i] as usize, p.material[j] as usize)
+                        .kn
+                        * overlap;
+                    sum[i] += f;
+                    sum[j] += f;
+                }
+            }
+        }
+    }
+    (0..n)
+        .map(|i| sum[i] / (std::f64::consts::TAU * p.radius[i]))
+        .collect()
+}
+
 /// Overlap of particle `i` with wall `w` (negative: a gap), if the wall has a normal there.
 pub fn wall_overlap(setup: &Setup, p: &Particles, i: usize, w: usize) -> Option<f64> {
     setup.walls[w]
@@ -177,18 +234,12 @@ pub fn index_of(p: &Particles, id: u32) -> Option<usize> {
 /// ids). Equal hashes mean bitwise-equal runs, whatever the thread count or restarts.
 pub fn state_hash(s: &State) -> u64 {
     let p = &s.particles;
-    let mut h: u64 = 0xcbf29ce484222325;
-    let mut eat = |bits: u64| {
-        for b in bits.to_le_bytes() {
-            h ^= b as u64;
-            h = h.wrapping_mul(0x100000001b3);
-        }
-    };
+    let mut h = grains_core::hash::Fnv1a::default();
     let mut order: Vec<usize> = (0..p.len()).collect();
     order.sort_unstable_by_key(|&i| p.id[i]);
     for &i in &order {
         for v in [p.pos[i].x, p.pos[i].y, p.vel[i].x, p.vel[i].y, p.omega[i]] {
-            eat(v.to_bits());
+            h.f64(v);
         }
     }
     let list = &s.contacts;
@@ -203,8 +254,8 @@ pub fn state_hash(s: &State) -> u64 {
     }
     springs.sort_unstable_by_key(|&(k, _)| k);
     for (k, v) in springs {
-        eat(k);
-        eat(v.to_bits());
+        h.word(k);
+        h.f64(v);
     }
-    h
+    h.finish()
 }

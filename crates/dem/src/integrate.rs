@@ -21,16 +21,16 @@ pub struct WallLoad {
     pub contacts: u32,
 }
 
-/// First half of velocity Verlet: half kick with the last forces and gravity, then
-/// drift, and wrap positions on periodic axes. Returns whether any particle has now moved
-/// more than skin/2 from `pos_at_build` (the neighbour list needs rebuilding) — measured
-/// in the same sweep, so the check costs no extra pass over memory.
-pub fn kick_drift(setup: &Setup, p: &mut Particles, pos_at_build: &[DVec2]) -> bool {
+/// First half of velocity Verlet over a step `dt`: half kick with the last forces and
+/// gravity, then drift, and wrap positions on periodic axes. Returns whether any particle
+/// has now moved more than skin/2 from `pos_at_build` (the neighbour list needs
+/// rebuilding) — measured in the same sweep, so the check costs no extra pass over memory.
+pub fn kick_drift(setup: &Setup, p: &mut Particles, pos_at_build: &[DVec2], dt: f64) -> bool {
     let stale = pos_at_build.len() != p.len();
     let moved = crate::with_image!(
         setup.domain,
         kick_drift_chunks,
-        (setup, p, pos_at_build, stale)
+        (setup, p, pos_at_build, stale, dt)
     );
     moved || stale
 }
@@ -40,9 +40,10 @@ fn kick_drift_chunks<const PX: bool, const PY: bool>(
     p: &mut Particles,
     built: &[DVec2],
     stale: bool,
+    dt: f64,
 ) -> bool {
     let image = Image::<PX, PY>::new(&setup.domain);
-    let (dt, h, g) = (setup.dt, 0.5 * setup.dt, setup.gravity);
+    let (h, g) = (0.5 * dt, setup.gravity);
     let limit2 = (0.5 * setup.skin).powi(2);
     p.pos
         .par_chunks_mut(CHUNK)

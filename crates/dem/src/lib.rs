@@ -6,9 +6,10 @@
 //! and circles) use the same law with an infinitely heavy, non-rotating partner.
 //!
 //! One time step is a short, fixed sequence of named stages (see [`step::step`]):
-//! `kick_drift → neighbours → pair_contacts → walls_gather_kick`. State is passed
-//! explicitly: [`Particles`] (per-field storage), [`ContactList`] (neighbour list with
-//! tangential history) and a read-only [`Setup`] (domain, walls, contact table, time step).
+//! `kick_drift → neighbours → pair_contacts → walls_gather_kick`, with outside forces
+//! entering through [`Hooks`]. State is passed explicitly: [`Particles`] (per-field
+//! storage), [`ContactList`] (neighbour list with tangential history) and a read-only
+//! [`Setup`] (domain, walls, contact table, skin); the time step is an argument.
 #![warn(missing_docs)]
 // SoA kernels index several arrays with one particle or entry index; iterator zips over
 // five or more fields would hide that, not clarify it.
@@ -33,8 +34,8 @@ pub use domain::Domain;
 pub use material::Material;
 pub use neighbours::ContactList;
 pub use particles::Particles;
-pub use setup::{Setup, SetupError};
-pub use step::{step, State};
+pub use setup::Setup;
+pub use step::{step, step_with, Hooks, NoHooks, State};
 pub use walls::{Wall, WallShape};
 
 /// Work is split into fixed-size chunks of particles so that every reduction and every

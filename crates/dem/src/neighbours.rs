@@ -56,9 +56,18 @@ struct CellGrid {
 }
 
 impl CellGrid {
-    fn new(setup: &Setup, particles: &Particles) -> Self {
+    fn new(setup: &Setup, bounds: (DVec2, DVec2), particles: &Particles) -> Self {
         let d = &setup.domain;
-        let len = d.length();
+        // Periodic axes tile the domain exactly; non-periodic ones span `bounds`.
+        let lo = DVec2::new(
+            if d.periodic[0] { d.lo.x } else { bounds.0.x },
+            if d.periodic[1] { d.lo.y } else { bounds.0.y },
+        );
+        let hi = DVec2::new(
+            if d.periodic[0] { d.hi.x } else { bounds.1.x },
+            if d.periodic[1] { d.hi.y } else { bounds.1.y },
+        );
+        let len = hi - lo;
         let mut h = (2.0 * particles.max_radius() + setup.skin).max(f64::MIN_POSITIVE);
         // Bound the cell count (and memory) for sparse systems in large boxes.
         let max_cells = (4 * particles.len()).max(1024) as f64;
@@ -80,7 +89,7 @@ impl CellGrid {
             }
         }
         CellGrid {
-            lo: d.lo,
+            lo,
             inv_h,
             n,
             periodic: d.periodic,
@@ -151,8 +160,21 @@ impl ContactList {
     }
 
     /// Re-sorts the particles by cell, rebuilds the list and carries the tangential
-    /// history of touching pairs (and walls) over to the new order.
+    /// history of touching pairs (and walls) over to the new order. The cell grid spans
+    /// the domain.
     pub fn rebuild(&mut self, setup: &Setup, particles: &mut Particles) {
+        self.rebuild_within(setup, (setup.domain.lo, setup.domain.hi), particles);
+    }
+
+    /// Like [`ContactList::rebuild`], with the cell grid spanning `bounds` (lower and
+    /// upper corner) along the non-periodic axes: a run whose particles spread far beyond
+    /// their starting box (an explosive ring) keeps its cells fitted to them.
+    pub fn rebuild_within(
+        &mut self,
+        setup: &Setup,
+        bounds: (DVec2, DVec2),
+        particles: &mut Particles,
+    ) {
         let n = particles.len();
         let nw = setup.walls.len();
         let old = self.history_by_id(particles);
@@ -161,7 +183,7 @@ impl ContactList {
         }
         self.n_walls = nw;
 
-        let grid = CellGrid::new(setup, particles);
+        let grid = CellGrid::new(setup, bounds, particles);
         let (perm, cell_start) = sort_by_cell(&grid, particles);
         particles.permute(&perm);
         if nw > 0 {

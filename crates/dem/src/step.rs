@@ -1,10 +1,15 @@
-//! One DEM time step: `kick_drift → neighbours → pair_contacts → walls_gather_kick`.
+//! One DEM time step: `kick_drift → neighbours → pair_contacts → [post_force] →
+//! walls_gather_kick`.
+//!
+//! Outside forces (a coupled solid, a field) enter through [`Hooks`], as LAMMPS fixes do
+//! through `post_force`: the step itself is never copied to add them.
 
 use crate::forces::pair_contacts;
 use crate::integrate::{kick_drift, walls_gather_kick, WallLoad};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
+use glam::DVec2;
 
 /// Everything that evolves during a run.
 #[derive(Clone, Debug, Default)]
@@ -36,13 +41,44 @@ impl State {
     }
 }
 
-/// Advances the state by one time step `setup.dt`.
-pub fn step(setup: &Setup, s: &mut State) {
-    let dt = setup.dt;
-    if kick_drift(setup, &mut s.particles, &s.contacts.pos_at_build) {
-        s.contacts.rebuild(setup, &mut s.particles);
+/// What rides on a step from outside the particle system. Every method has a default
+/// that does nothing, so a plain run passes [`NoHooks`].
+pub trait Hooks {
+    /// The box the neighbour cell grid spans along non-periodic axes when the list is
+    /// rebuilt (lower and upper corner); default the domain's.
+    fn grid_box(&mut self, setup: &Setup, _particles: &Particles) -> (DVec2, DVec2) {
+        (setup.domain.lo, setup.domain.hi)
     }
+
+    /// After the neighbour stage, with the particles in their (possibly new) order;
+    /// `rebuilt` says whether the list was rebuilt and the particles re-sorted.
+    fn post_neighbour(&mut self, _particles: &Particles, _rebuilt: bool) {}
+
+    /// After the pair forces and before walls and the closing kick: add outside forces
+    /// to `particles.force` (and torques to `particles.torque`).
+    fn post_force(&mut self, _particles: &mut Particles) {}
+}
+
+/// No outside forces.
+pub struct NoHooks;
+
+impl Hooks for NoHooks {}
+
+/// Advances the state by one time step `dt`.
+pub fn step(setup: &Setup, s: &mut State, dt: f64) {
+    step_with(setup, s, dt, &mut NoHooks);
+}
+
+/// Advances the state by one time step `dt`, with outside forces from `hooks`.
+pub fn step_with<H: Hooks>(setup: &Setup, s: &mut State, dt: f64, hooks: &mut H) {
+    let rebuilt = kick_drift(setup, &mut s.particles, &s.contacts.pos_at_build, dt);
+    if rebuilt {
+        let bounds = hooks.grid_box(setup, &s.particles);
+        s.contacts.rebuild_within(setup, bounds, &mut s.particles);
+    }
+    hooks.post_neighbour(&s.particles, rebuilt);
     pair_contacts(setup, &mut s.particles, &mut s.contacts, dt);
+    hooks.post_force(&mut s.particles);
     s.wall_loads = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt);
     s.time += dt;
     s.step += 1;

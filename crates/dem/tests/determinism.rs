@@ -3,6 +3,9 @@
 use glam::DVec2;
 use grains_dem::{step, ContactModel, Domain, Material, Particles, Setup, State, Wall, WallShape};
 
+/// The peer benchmark's time step.
+const DT: f64 = 5e-4;
+
 fn bed(n: usize) -> (Setup, Particles) {
     let nx = 60;
     let material = Material {
@@ -41,7 +44,6 @@ fn bed(n: usize) -> (Setup, Particles) {
         model,
         vec![floor],
         DVec2::new(0.0, -1.0),
-        5e-4,
         0.1,
     )
     .unwrap();
@@ -75,7 +77,7 @@ fn run(threads: usize) -> State {
         let (setup, p) = bed(6000);
         let mut s = State::new(&setup, p);
         for _ in 0..1000 {
-            step(&setup, &mut s);
+            step(&setup, &mut s, DT);
         }
         s
     })
@@ -120,18 +122,18 @@ fn checkpoint_and_resume_is_bitwise_identical() {
     let (setup, p) = bed(3000);
     let mut straight = State::new(&setup, p.clone());
     for _ in 0..600 {
-        step(&setup, &mut straight);
+        step(&setup, &mut straight, DT);
     }
     let mut first = State::new(&setup, p);
     for _ in 0..300 {
-        step(&setup, &mut first);
+        step(&setup, &mut first, DT);
     }
     let mut bytes = Vec::new();
     grains_dem::checkpoint::write(&first, &mut bytes).unwrap();
     drop(first);
     let mut resumed = grains_dem::checkpoint::read(&mut &bytes[..], 10_000).unwrap();
     for _ in 0..300 {
-        step(&setup, &mut resumed);
+        step(&setup, &mut resumed, DT);
     }
     assert_same(&straight, &resumed, "resumed");
 

@@ -212,3 +212,25 @@ pub fn arrival_error(setup: &FemSetup, bins: &[ArrivalBin]) -> (f64, f64) {
     let speed = (n * str_ - st * sr) / (n * stt - st * st);
     (worst, speed)
 }
+
+/// A fingerprint of the charge: FNV-1a over every node's position and velocity and
+/// every element's mass, specific energy, burn fraction, pressure, viscous pressure
+/// and deviatoric stress. Equal hashes mean bitwise-equal runs, whatever the thread count.
+pub fn state_hash(c: &Charge) -> u64 {
+    let mut h = grains_core::hash::Fnv1a::default();
+    for (x, v) in c.nodes.pos.iter().zip(&c.nodes.vel) {
+        for w in [x.x, x.y, v.x, v.y] {
+            h.f64(w);
+        }
+    }
+    let e = &c.elems;
+    for k in 0..e.mass.len() {
+        for w in [e.mass[k], e.energy[k], e.lambda[k], e.pressure[k], e.q[k]] {
+            h.f64(w);
+        }
+        for w in e.dev[k] {
+            h.f64(w);
+        }
+    }
+    h.finish()
+}

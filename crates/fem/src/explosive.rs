@@ -12,7 +12,7 @@
 //! The paper (xue-2019, App. A) takes its sets from Price et al. 2015, which could not be
 //! retrieved; any set can be given in full in the scenario instead.
 
-use crate::error::{positive, shown, FemError};
+use grains_core::input::{positive, shown, InputError};
 use serde::{Deserialize, Serialize};
 
 /// JWL products: p = A(1 − ω/(R1 v))e^(−R1 v) + B(1 − ω/(R2 v))e^(−R2 v) + ωE/v, with
@@ -164,7 +164,7 @@ impl Explosive {
     }
 
     /// Checks every parameter; `key` is the scenario path of this set.
-    pub fn validate(&self, key: &str) -> Result<(), FemError> {
+    pub fn validate(&self, key: &str) -> Result<(), InputError> {
         let k = |f: &str| format!("{key}.{f}");
         positive(&k("density"), self.density)?;
         positive(&k("detonation_velocity"), self.detonation_velocity)?;
@@ -190,7 +190,7 @@ impl Explosive {
         }
         let limit = self.density * self.detonation_velocity.powi(2);
         if self.cj_pressure >= limit {
-            return Err(FemError::new(
+            return Err(InputError::new(
                 k("cj_pressure"),
                 shown(self.cj_pressure),
                 format!("must be below ρ0·D² = {} Pa (else V_CJ ≤ 0)", shown(limit)),

@@ -19,7 +19,6 @@
 
 pub mod diagnostics;
 pub mod eos;
-pub mod error;
 pub mod explosive;
 pub mod integrate;
 pub mod mesh;
@@ -28,7 +27,6 @@ pub mod state;
 pub mod step;
 pub mod stress;
 
-pub use error::FemError;
 pub use explosive::Explosive;
 pub use mesh::{Mesh, MeshSpec};
 pub use setup::{Burn, FemSetup, Strength, Viscosity};

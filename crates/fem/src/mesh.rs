@@ -8,8 +8,8 @@
 //! angle, and a single node closes the centre. The outermost ring lies exactly on the
 //! circle, so the boundary follows it to within the sagitta R(1 − cos(π/n)).
 
-use crate::error::{positive, shown, FemError};
 use glam::DVec2;
+use grains_core::input::{positive, shown, InputError};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 
@@ -96,12 +96,12 @@ impl Mesh {
 }
 
 /// Meshes the disk of `radius` about `centre`; refuses sizes that cannot resolve it.
-pub fn circle(radius: f64, centre: DVec2, spec: &MeshSpec) -> Result<Mesh, FemError> {
+pub fn circle(radius: f64, centre: DVec2, spec: &MeshSpec) -> Result<Mesh, InputError> {
     positive("charge.radius", radius)?;
     positive("charge.mesh.size_edge", spec.size_edge)?;
     positive("charge.mesh.size_centre", spec.size_centre)?;
     if !(spec.grading.is_finite() && spec.grading >= 0.0) {
-        return Err(FemError::new(
+        return Err(InputError::new(
             "charge.mesh.grading",
             shown(spec.grading),
             "must be a finite number >= 0",
@@ -109,7 +109,7 @@ pub fn circle(radius: f64, centre: DVec2, spec: &MeshSpec) -> Result<Mesh, FemEr
     }
     let coarsest = radius / MIN_ELEMENTS_ACROSS;
     if spec.size_edge > coarsest {
-        return Err(FemError::new(
+        return Err(InputError::new(
             "charge.mesh.size_edge",
             shown(spec.size_edge),
             format!(
@@ -120,7 +120,7 @@ pub fn circle(radius: f64, centre: DVec2, spec: &MeshSpec) -> Result<Mesh, FemEr
         ));
     }
     if spec.size_centre > 3.0 * coarsest {
-        return Err(FemError::new(
+        return Err(InputError::new(
             "charge.mesh.size_centre",
             shown(spec.size_centre),
             format!(
@@ -130,7 +130,7 @@ pub fn circle(radius: f64, centre: DVec2, spec: &MeshSpec) -> Result<Mesh, FemEr
         ));
     }
     if spec.size_centre < spec.size_edge {
-        return Err(FemError::new(
+        return Err(InputError::new(
             "charge.mesh.size_centre",
             shown(spec.size_centre),
             format!(
@@ -140,7 +140,7 @@ pub fn circle(radius: f64, centre: DVec2, spec: &MeshSpec) -> Result<Mesh, FemEr
         ));
     }
     if radius / spec.size_edge > 20_000.0 {
-        return Err(FemError::new(
+        return Err(InputError::new(
             "charge.mesh.size_edge",
             shown(spec.size_edge),
             "too fine: more than 20000 elements across the radius",

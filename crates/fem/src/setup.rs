@@ -1,9 +1,9 @@
 //! The read-only description of a charge run: explosive, burn, viscosity, strength,
 //! damping and the time-step safety factor.
 
-use crate::error::{non_negative, positive, shown, FemError};
 use crate::explosive::Explosive;
 use glam::DVec2;
+use grains_core::input::{non_negative, positive, shown, InputError};
 use serde::{Deserialize, Serialize};
 
 /// Programmed burn (xue-2019 Eqs. A1–A2, physics.md §1.3).
@@ -122,11 +122,11 @@ impl FemSetup {
         strength: Option<Strength>,
         damping: f64,
         safety: f64,
-    ) -> Result<Self, FemError> {
+    ) -> Result<Self, InputError> {
         explosive.validate(explosive_key)?;
         let det_point = burn.point.map_or(centre, DVec2::from);
         if !det_point.is_finite() || (det_point - centre).length() > radius * (1.0 + 1e-12) {
-            return Err(FemError::new(
+            return Err(InputError::new(
                 "charge.burn.point",
                 format!("{:?}", burn.point.unwrap_or_default()),
                 format!(
@@ -137,7 +137,7 @@ impl FemSetup {
             ));
         }
         if !burn.time.is_finite() {
-            return Err(FemError::new(
+            return Err(InputError::new(
                 "charge.burn.time",
                 shown(burn.time),
                 "must be finite",
@@ -151,14 +151,14 @@ impl FemSetup {
             positive("charge.strength.yield_stress", s.yield_stress)?;
         }
         if !(damping.is_finite() && (0.0..1.0).contains(&damping)) {
-            return Err(FemError::new(
+            return Err(InputError::new(
                 "charge.damping",
                 shown(damping),
                 "must be in [0, 1)",
             ));
         }
         if !(safety.is_finite() && safety > 0.0 && safety <= 1.0) {
-            return Err(FemError::new(
+            return Err(InputError::new(
                 "run.safety",
                 shown(safety),
                 "must be in (0, 1]",

@@ -32,7 +32,7 @@ fn main() {
         shear: 0.5,
     };
     let c = mat.wave_speed();
-    let mut setup = Setup {
+    let setup = Setup {
         grid: Grid {
             lo: DVec2::ZERO,
             h,
@@ -53,9 +53,8 @@ fn main() {
         separation: None,
         walls: [Some(mu); 4],
         gravity: DVec2::ZERO,
-        dt: 1.0,
     };
-    setup.dt = cfl * h / (c + 0.15);
+    let dt = cfl * h / (c + 0.15);
     let geo = Geometry::Disk {
         centre: [1.0, 1.5],
         radius: 0.5,
@@ -74,7 +73,7 @@ fn main() {
     let t_end: f64 = std::env::var("TEND")
         .ok()
         .map_or(34.0, |s| s.parse().unwrap());
-    let steps = (t_end / setup.dt) as u64;
+    let steps = (t_end / dt) as u64;
     let every = std::env::var("EVERY")
         .ok()
         .map_or((steps / 68).max(1), |s| s.parse().unwrap());
@@ -84,7 +83,7 @@ fn main() {
     let mut e0 = 0.0;
     for k in 0..=steps {
         if k > 0 {
-            step(&setup, &mut s, &mut w).unwrap();
+            step(&setup, &mut s, &mut w, dt).unwrap();
         }
         if k % every == 0 {
             let d = measure(&setup, &s.particles, &w.layout().bodies);

@@ -169,3 +169,24 @@ pub fn measure(setup: &Setup, p: &Particles, ranges: &[(usize, usize)]) -> Diagn
     }
     d
 }
+
+/// A fingerprint of the points: FNV-1a over every point's position, velocity,
+/// deformation gradient and stress, in id order. Equal hashes mean bitwise-equal runs,
+/// whatever the thread count.
+pub fn state_hash(p: &Particles) -> u64 {
+    let mut h = grains_core::hash::Fnv1a::default();
+    let mut order: Vec<usize> = (0..p.len()).collect();
+    order.sort_unstable_by_key(|&i| p.id[i]);
+    for i in order {
+        let (x, v, f, s) = (p.pos[i], p.vel[i], p.def[i], p.stress[i]);
+        for w in [
+            x.x, x.y, v.x, v.y, f.x_axis.x, f.x_axis.y, f.y_axis.x, f.y_axis.y,
+        ] {
+            h.f64(w);
+        }
+        for w in [s.xx, s.yy, s.xy, s.zz] {
+            h.f64(w);
+        }
+    }
+    h.finish()
+}

@@ -39,7 +39,7 @@ pub use geometry::Geometry;
 pub use grid::Grid;
 pub use material::{Material, Stress};
 pub use particles::Particles;
-pub use setup::{Body, ContactLaw, ContactTable, Motion, Setup, SetupError, UpdateScheme};
+pub use setup::{Body, ContactLaw, ContactTable, Motion, Setup, UpdateScheme};
 pub use shape::ShapeFunction;
 pub use step::{step, Solver, State, Unstable};
 

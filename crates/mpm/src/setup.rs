@@ -5,6 +5,7 @@ use crate::grid::Grid;
 use crate::material::Material;
 use crate::shape::ShapeFunction;
 use glam::DVec2;
+use grains_core::input::InputError;
 use serde::{Deserialize, Serialize};
 
 /// When the stress is updated within a step.
@@ -140,62 +141,37 @@ pub struct Setup {
     pub walls: [Option<f64>; 4],
     /// Gravitational acceleration (m/s²).
     pub gravity: DVec2,
-    /// Time step (s).
-    pub dt: f64,
 }
 
-/// A rejected input value: names the key, the value and what is allowed.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{key} = {value}: {allowed}")]
-pub struct SetupError {
-    /// Dotted key path in the scenario.
-    pub key: String,
-    /// The offending value, as text.
-    pub value: String,
-    /// What would be accepted.
-    pub allowed: String,
-}
-
-impl SetupError {
-    /// Builds an error from its three parts.
-    pub fn new(key: impl Into<String>, value: impl ToString, allowed: impl Into<String>) -> Self {
-        SetupError {
-            key: key.into(),
-            value: value.to_string(),
-            allowed: allowed.into(),
-        }
-    }
-}
-
-fn positive(key: String, v: f64) -> Result<(), SetupError> {
+fn positive(key: String, v: f64) -> Result<(), InputError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(SetupError::new(key, v, "must be a finite number > 0"))
+        Err(InputError::new(key, v, "must be a finite number > 0"))
     }
 }
 
 impl Setup {
     /// Checks every value a stage relies on; the caller has validated names and
     /// geometry.
-    pub fn validate(&self) -> Result<(), SetupError> {
+    pub fn validate(&self) -> Result<(), InputError> {
         positive("grid.cell_size".into(), self.grid.h)?;
         if self.grid.cells[0] < 2 || self.grid.cells[1] < 2 {
-            return Err(SetupError::new(
+            return Err(InputError::new(
                 "grid.cells",
                 format!("{:?}", self.grid.cells),
                 "need at least 2 cells along x and y",
             ));
         }
         if !(self.half_width > 0.0 && self.half_width <= 0.5) {
-            return Err(SetupError::new(
+            return Err(InputError::new(
                 "grid.particles_per_cell",
                 self.half_width,
                 "the particle half-width must be in (0, ½] cell",
             ));
         }
         if !(self.flip.is_finite() && (0.0..=1.0).contains(&self.flip)) {
-            return Err(SetupError::new(
+            return Err(InputError::new(
                 "method.flip",
                 self.flip,
                 "must be in [0, 1]",
@@ -208,7 +184,7 @@ impl Setup {
             positive(format!("material[{k}].shear"), shear)?;
         }
         if self.bodies.is_empty() || self.bodies.len() > u16::MAX as usize {
-            return Err(SetupError::new(
+            return Err(InputError::new(
                 "body",
                 self.bodies.len(),
                 "need between 1 and 65535 bodies",
@@ -216,7 +192,7 @@ impl Setup {
         }
         for (k, b) in self.bodies.iter().enumerate() {
             if b.material >= self.materials.len() {
-                return Err(SetupError::new(
+                return Err(InputError::new(
                     format!("body[{k}].material"),
                     b.material,
                     "unknown material",
@@ -224,7 +200,7 @@ impl Setup {
             }
             if let Motion::Prescribed(v) = b.motion {
                 if !v.is_finite() {
-                    return Err(SetupError::new(
+                    return Err(InputError::new(
                         format!("body[{k}].velocity"),
                         format!("{v:?}"),
                         "must be finite",
@@ -235,7 +211,7 @@ impl Setup {
         for (k, w) in self.walls.iter().enumerate() {
             if let Some(mu) = w {
                 if !(mu.is_finite() && *mu >= 0.0) {
-                    return Err(SetupError::new(
+                    return Err(InputError::new(
                         format!("walls.{}.mu", SIDES[k]),
                         mu,
                         "must be a finite number >= 0",
@@ -244,13 +220,12 @@ impl Setup {
             }
         }
         if !self.gravity.is_finite() {
-            return Err(SetupError::new(
+            return Err(InputError::new(
                 "gravity",
                 format!("{:?}", self.gravity),
                 "must be finite",
             ));
         }
-        positive("run.dt".into(), self.dt)?;
         Ok(())
     }
 

@@ -13,6 +13,9 @@ macro_rules! multiversion {
     ) => {
         $(#[$attr])*
         #[inline(never)]
+        // The one unsafe call in the workspace: the AVX2 copy runs only after the CPU
+        // was seen to have AVX2.
+        #[allow(unsafe_code)]
         $vis fn $name<$($decl)*>($($arg: $argty),*) $(-> $ret)? {
             #[inline(always)]
             fn body<$($decl)*>($($arg: $argty),*) $(-> $ret)? $body

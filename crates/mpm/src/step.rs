@@ -81,36 +81,41 @@ impl Solver {
     }
 }
 
-/// Advances the state by one time step `setup.dt`.
-pub fn step(setup: &Setup, s: &mut State, w: &mut Solver) -> Result<(), Unstable> {
+/// Advances the state by one time step `dt`.
+pub fn step(setup: &Setup, s: &mut State, w: &mut Solver, dt: f64) -> Result<(), Unstable> {
     match setup.shape {
-        ShapeFunction::Linear => step_with::<Linear>(setup, s, w),
-        ShapeFunction::Gimp => step_with::<Gimp>(setup, s, w),
-        ShapeFunction::Bspline2 => step_with::<Bspline2>(setup, s, w),
+        ShapeFunction::Linear => step_with::<Linear>(setup, s, w, dt),
+        ShapeFunction::Gimp => step_with::<Gimp>(setup, s, w, dt),
+        ShapeFunction::Bspline2 => step_with::<Bspline2>(setup, s, w, dt),
     }
 }
 
-fn step_with<K: Kernel>(setup: &Setup, s: &mut State, w: &mut Solver) -> Result<(), Unstable> {
+fn step_with<K: Kernel>(
+    setup: &Setup,
+    s: &mut State,
+    w: &mut Solver,
+    dt: f64,
+) -> Result<(), Unstable> {
     prepare(setup, &mut s.particles, w);
     p2g::<K>(setup, &s.particles, w);
-    let mut touch = correct(setup, w, Pass::Interpolated, false);
+    let mut touch = correct(setup, w, Pass::Interpolated, false, dt);
     match setup.scheme {
-        UpdateScheme::Usf => stress_first::<K>(setup, &mut s.particles, w, setup.dt),
-        UpdateScheme::Usavg => stress_first::<K>(setup, &mut s.particles, w, 0.5 * setup.dt),
+        UpdateScheme::Usf => stress_first::<K>(setup, &mut s.particles, w, dt),
+        UpdateScheme::Usavg => stress_first::<K>(setup, &mut s.particles, w, 0.5 * dt),
         _ => {}
     }
-    integrate(setup, w);
-    touch = merge(touch, correct(setup, w, Pass::Integrated, true));
-    grid_velocities(setup, w);
-    let seen = g2p::<K>(setup, &mut s.particles, w);
+    integrate(setup, w, dt);
+    touch = merge(touch, correct(setup, w, Pass::Integrated, true, dt));
+    grid_velocities(setup, w, dt);
+    let seen = g2p::<K>(setup, &mut s.particles, w, dt);
     if setup.scheme == UpdateScheme::Musl {
         remap::<K>(&s.particles, w);
-        touch = merge(touch, correct(setup, w, Pass::Interpolated, true));
-        grid_velocities(setup, w);
-        stress_last::<K>(setup, &mut s.particles, w);
+        touch = merge(touch, correct(setup, w, Pass::Interpolated, true, dt));
+        grid_velocities(setup, w, dt);
+        stress_last::<K>(setup, &mut s.particles, w, dt);
     }
     s.touch = touch;
-    s.time += setup.dt;
+    s.time += dt;
     s.step += 1;
     finish(setup, s, w, seen)
 }
@@ -181,7 +186,7 @@ fn p2g<K: Kernel>(setup: &Setup, p: &Particles, w: &mut Solver) {
 
 /// One contact correction: sums the bodies (if several), then corrects each free body
 /// against the others and the walls.
-fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool) -> Vec<Touch> {
+fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool, dt: f64) -> Vec<Touch> {
     if setup.pass1_to_particles && pass == Pass::Interpolated && !momentum_only {
         // Keep the interpolated velocity so FLIP can see this pass's change too.
         w.patches.par_iter_mut().for_each(|patch| {
@@ -211,17 +216,11 @@ fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool) -> Ve
                     &setup.contact,
                     setup.separation,
                     pass,
-                    setup.dt,
+                    dt,
                 ),
                 None => Touch::default(),
             };
-            t.merge(contact::walls(
-                patch,
-                &setup.grid,
-                &setup.walls,
-                pass,
-                setup.dt,
-            ))
+            t.merge(contact::walls(patch, &setup.grid, &setup.walls, pass, dt))
         })
         .collect()
 }
@@ -261,8 +260,8 @@ fn stress_first<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt:
 }
 
 /// Gravity and integration of the free bodies' momenta: p* = p + (f + m g) Δt.
-fn integrate(setup: &Setup, w: &mut Solver) {
-    let (g, dt) = (setup.gravity, setup.dt);
+fn integrate(setup: &Setup, w: &mut Solver, dt: f64) {
+    let g = setup.gravity;
     w.patches
         .par_iter_mut()
         .zip(&w.rigid)
@@ -280,9 +279,9 @@ fn integrate(setup: &Setup, w: &mut Solver) {
 }
 
 /// Nodal velocities and FLIP accelerations from the corrected momenta and forces.
-fn grid_velocities(setup: &Setup, w: &mut Solver) {
+fn grid_velocities(setup: &Setup, w: &mut Solver, dt: f64) {
     let through = setup.pass1_to_particles;
-    let inv_dt = 1.0 / setup.dt;
+    let inv_dt = 1.0 / dt;
     w.patches.par_iter_mut().for_each(|patch| {
         for (n, k) in patch.nodes.iter().zip(patch.kin.iter_mut()) {
             if n.m > 0.0 {
@@ -301,7 +300,7 @@ fn grid_velocities(setup: &Setup, w: &mut Solver) {
 }
 
 /// Grid to particles: velocity, position and (USL) stress.
-fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) -> Seen {
+fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt: f64) -> Seen {
     let place = place(setup);
     let hi = setup.grid.hi();
     let musl = setup.scheme == UpdateScheme::Musl;
@@ -325,12 +324,9 @@ fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) -> Seen {
             let strip = strip as usize;
             let cache = &stencils[start..end];
             let seen = match body.motion {
-                Motion::Prescribed(v) => {
-                    transfer::move_rigid(&place, hi, v, setup.dt, strip, &mut pts)
-                }
+                Motion::Prescribed(v) => transfer::move_rigid(&place, hi, v, dt, strip, &mut pts),
                 Motion::Free => {
                     let m = &setup.materials[body.material];
-                    let dt = setup.dt;
                     let f = setup.flip;
                     match setup.scheme {
                         UpdateScheme::Usl => transfer::gather::<K, true>(
@@ -406,7 +402,7 @@ fn remap<K: Kernel>(p: &Particles, w: &mut Solver) {
 }
 
 /// MUSL: stress from the re-mapped grid velocities, then the points move.
-fn stress_last<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) {
+fn stress_last<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt: f64) {
     let layout = &w.layout;
     let patches = &w.patches;
     let stencils = &w.stencils;
@@ -421,7 +417,7 @@ fn stress_last<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver) {
                 let m = &setup.materials[body.material];
                 let view = (&patch.kin[..], patch.lo, patch.size[1]);
                 let cache = &stencils[start..end];
-                transfer::gather_stress::<K>(m, setup.dt, view, &mut pts, cache);
+                transfer::gather_stress::<K>(m, dt, view, &mut pts, cache);
             }
             Motion::Prescribed(_) => {
                 let next = pts.next.take().expect("MUSL keeps the new positions apart");

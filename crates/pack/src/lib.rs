@@ -26,10 +26,11 @@ pub mod mc;
 pub mod output;
 pub mod protocol;
 pub mod relax;
+pub mod ring;
 pub mod sizes;
 pub mod spec;
 pub mod validate;
 
 pub use protocol::{pack, Packing, ProtocolStats};
 pub use spec::{parse, PackSpec};
-pub use validate::{validate, SpecError, Validated};
+pub use validate::{validate, Validated};

@@ -232,15 +232,5 @@ impl Default for ProtocolSpec {
 
 /// Parses a spec, with the TOML error's line and column on failure.
 pub fn parse(text: &str, origin: &str) -> Result<PackSpec, String> {
-    toml::from_str::<PackSpec>(text).map_err(|e| {
-        let at = e
-            .span()
-            .map(|s| {
-                let before = &text[..s.start.min(text.len())];
-                let line = before.matches('\n').count() + 1;
-                format!(" line {line}:")
-            })
-            .unwrap_or_default();
-        format!("{origin}:{at} {}", e.message().replace('\n', " ").trim())
-    })
+    grains_core::input::parse_toml(text, origin)
 }

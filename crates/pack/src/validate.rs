@@ -5,25 +5,10 @@ use crate::sizes::Distribution;
 use crate::spec::{DomainSpec, PackSpec, SizeSpec};
 use glam::DVec2;
 use grains_analysis::region::Region;
+use grains_core::input::{InputError, Shown};
 
-/// A rejected spec value.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{key} = {value}: {allowed}")]
-pub struct SpecError {
-    /// Dotted key, e.g. `sizes.delta`.
-    pub key: String,
-    /// The offending value as written.
-    pub value: String,
-    /// What is allowed.
-    pub allowed: String,
-}
-
-fn err(key: &str, value: impl std::fmt::Display, allowed: impl Into<String>) -> SpecError {
-    SpecError {
-        key: key.into(),
-        value: value.to_string(),
-        allowed: allowed.into(),
-    }
+fn err(key: &str, value: impl Shown, allowed: impl Into<String>) -> InputError {
+    InputError::new(key, value, allowed)
 }
 
 /// Largest number of disks a spec may ask for (memory and time guard).
@@ -61,7 +46,7 @@ pub struct Validated {
     pub estimated_particles: f64,
 }
 
-fn finite_positive(key: &str, v: f64) -> Result<(), SpecError> {
+fn finite_positive(key: &str, v: f64) -> Result<(), InputError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
@@ -69,7 +54,7 @@ fn finite_positive(key: &str, v: f64) -> Result<(), SpecError> {
     }
 }
 
-fn in_range(key: &str, v: f64, lo: f64, hi: f64, what: &str) -> Result<(), SpecError> {
+fn in_range(key: &str, v: f64, lo: f64, hi: f64, what: &str) -> Result<(), InputError> {
     if v.is_finite() && (lo..=hi).contains(&v) {
         Ok(())
     } else {
@@ -78,7 +63,7 @@ fn in_range(key: &str, v: f64, lo: f64, hi: f64, what: &str) -> Result<(), SpecE
 }
 
 /// Validates a spec.
-pub fn validate(spec: &PackSpec) -> Result<Validated, SpecError> {
+pub fn validate(spec: &PackSpec) -> Result<Validated, InputError> {
     if spec.name.trim().is_empty() || spec.name.contains(['/', '\\']) || spec.name.starts_with('.')
     {
         return Err(err(
@@ -269,7 +254,7 @@ pub fn validate(spec: &PackSpec) -> Result<Validated, SpecError> {
     })
 }
 
-fn point(key: &str, p: [f64; 2]) -> Result<DVec2, SpecError> {
+fn point(key: &str, p: [f64; 2]) -> Result<DVec2, InputError> {
     if p.iter().all(|v| v.is_finite()) {
         Ok(DVec2::new(p[0], p[1]))
     } else {
@@ -282,7 +267,7 @@ fn point(key: &str, p: [f64; 2]) -> Result<DVec2, SpecError> {
 }
 
 /// Nominal mean diameter and a likely largest diameter of the size spec.
-fn sizes(s: &SizeSpec) -> Result<(f64, f64), SpecError> {
+fn sizes(s: &SizeSpec) -> Result<(f64, f64), InputError> {
     match *s {
         SizeSpec::Gaussian { d0, delta } => {
             finite_positive("sizes.d0", d0)?;

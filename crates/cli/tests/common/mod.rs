@@ -1,0 +1,102 @@
+//! What every test of the `grains` binary needs: run it, write a scenario and run that,
+//! read a summary, and assert that bad input is refused the way users are promised
+//! (exit 1, one error line naming the key and the value, nothing written).
+// Each test binary uses its own subset of these.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// What a command printed and how it ended.
+pub struct Out {
+    /// Exit code (-1 when killed by a signal).
+    pub code: i32,
+    /// Standard output.
+    pub stdout: String,
+    /// Standard error.
+    pub stderr: String,
+}
+
+/// Runs `grains ARGS` in `dir` (the test's own directory when `None`).
+pub fn grains_in(dir: Option<&Path>, args: &[&str]) -> Out {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_grains"));
+    if let Some(d) = dir {
+        c.current_dir(d);
+    }
+    let o = c.args(args).output().expect("run grains");
+    Out {
+        code: o.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&o.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&o.stderr).into_owned(),
+    }
+}
+
+/// Runs `grains ARGS`.
+pub fn grains(args: &[&str]) -> Out {
+    grains_in(None, args)
+}
+
+/// Writes `text` as `s.toml` (and `extra` files beside it) in a fresh directory and runs
+/// `grains run s.toml --out out` there, with `args` added.
+pub fn run_text(text: &str, extra: &[(&str, &str)], args: &[&str]) -> (Out, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.toml"), text).unwrap();
+    for (name, body) in extra {
+        std::fs::write(dir.path().join(name), body).unwrap();
+    }
+    let mut all = vec!["run", "s.toml", "--out", "out"];
+    all.extend_from_slice(args);
+    let out = grains_in(Some(dir.path()), &all);
+    (out, dir)
+}
+
+/// The summary a run wrote into `dir/out`.
+pub fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap()
+}
+
+/// An example scenario's path, from the workspace root.
+pub fn example(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(rel)
+}
+
+/// Asserts that a run was refused as bad input: exit 1, exactly one error line, which
+/// contains every string of `must_contain`, and no output directory in `dir`.
+pub fn assert_refused(out: &Out, dir: &Path, must_contain: &[&str]) {
+    assert_eq!(out.code, 1, "exit code; stderr: {}", out.stderr);
+    assert!(!dir.join("out").exists(), "an output directory was written");
+    let errors: Vec<&str> = out.stderr.lines().filter(|l| l.contains("error")).collect();
+    assert_eq!(errors.len(), 1, "{}", out.stderr);
+    for s in must_contain {
+        assert!(
+            errors[0].contains(s),
+            "error line {:?} lacks {s:?}",
+            errors[0]
+        );
+    }
+}
+
+/// Runs `text` and asserts that it is refused (see [`assert_refused`]).
+pub fn refused(text: &str, must_contain: &[&str]) {
+    let (out, dir) = run_text(text, &[], &[]);
+    assert_refused(&out, dir.path(), must_contain);
+}
+
+/// Runs an example (path under `examples/`) into a scratch directory: its outcome and
+/// its summary.
+pub fn run_example(rel: &str) -> (Out, serde_json::Value) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = grains(&[
+        "run",
+        example(rel).to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let s = std::fs::read_to_string(out.join("summary.json"))
+        .map(|t| serde_json::from_str(&t).unwrap())
+        .unwrap_or(serde_json::Value::Null);
+    (o, s)
+}

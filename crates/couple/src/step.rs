@@ -1,0 +1,116 @@
+//! One coupled FEM–DEM step, both engines on the same velocity-Verlet clock:
+//!
+//! `fem kick_drift → fem stress_forces → dem step [rebuild in a box fitted to the ring →
+//!  coarse detection → pair forces → penalty forces] → fem kick`
+//!
+//! The penalty forces enter the particles' force sums after the pair pass and before
+//! the DEM step closes (its `post_force` hook), and the charge's external nodal forces
+//! before its closing kick, so both sides see the same contact at the same time level.
+
+use crate::penalty::Coupling;
+use glam::DVec2;
+use grains_dem::{step_with, Hooks, Particles, Setup, State};
+use grains_fem::integrate as fem_int;
+use grains_fem::stress::{stress_forces, Breakdown};
+use grains_fem::{Charge, FemSetup};
+use rayon::prelude::*;
+
+/// The particle side of a coupled run.
+#[derive(Clone, Debug)]
+pub struct Ring {
+    /// DEM configuration (read-only).
+    pub setup: Setup,
+    /// DEM state.
+    pub state: State,
+    /// Charge–particle contact.
+    pub coupling: Coupling,
+    /// The box the DEM cell grid spans: refitted to the particles at every rebuild,
+    /// since the ring grows several-fold during a run.
+    pub grid_box: (DVec2, DVec2),
+}
+
+impl Ring {
+    /// The ring's particles in contact with the charge: initial forces of both sides.
+    pub fn new(
+        setup: Setup,
+        particles: Particles,
+        coupling: Coupling,
+        charge: &mut Charge,
+    ) -> Self {
+        let state = State::new(&setup, particles);
+        let mut ring = Ring {
+            grid_box: (setup.domain.lo, setup.domain.hi),
+            setup,
+            state,
+            coupling,
+        };
+        ring.coupling.rebuild(charge, &ring.state.particles);
+        ring.coupling.forces(charge, &mut ring.state.particles);
+        ring
+    }
+}
+
+/// What rides on the DEM step: the charge's edge.
+struct Edge<'a> {
+    charge: &'a mut Charge,
+    coupling: &'a mut Coupling,
+    grid_box: &'a mut (DVec2, DVec2),
+}
+
+impl Hooks for Edge<'_> {
+    fn grid_box(&mut self, _setup: &Setup, p: &Particles) -> (DVec2, DVec2) {
+        if let Some(fitted) = fitted_box(&p.pos) {
+            *self.grid_box = fitted;
+        }
+        *self.grid_box
+    }
+
+    fn post_neighbour(&mut self, p: &Particles, rebuilt: bool) {
+        // The candidate list holds particle indices, so a re-sort invalidates it.
+        if rebuilt || self.coupling.stale(self.charge) {
+            self.coupling.rebuild(self.charge, p);
+        }
+    }
+
+    fn post_force(&mut self, p: &mut Particles) {
+        self.coupling.forces(self.charge, p);
+    }
+}
+
+/// Advances charge and ring by `dt`.
+pub fn coupled_step(
+    fem: &FemSetup,
+    charge: &mut Charge,
+    ring: &mut Ring,
+    dt: f64,
+) -> Result<(), Breakdown> {
+    fem_int::kick_drift(charge, dt);
+    stress_forces(fem, charge, dt)?;
+    let mut edge = Edge {
+        charge,
+        coupling: &mut ring.coupling,
+        grid_box: &mut ring.grid_box,
+    };
+    step_with(&ring.setup, &mut ring.state, dt, &mut edge);
+    fem_int::kick(fem, charge, dt);
+    Ok(())
+}
+
+/// The particles' bounding box with a margin of 10⁻³ of its size; `None` when a
+/// position is not finite (the run is then about to stop as unstable).
+fn fitted_box(pos: &[DVec2]) -> Option<(DVec2, DVec2)> {
+    let (lo, hi) = pos
+        .par_iter()
+        .fold(
+            || (DVec2::INFINITY, DVec2::NEG_INFINITY),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        )
+        .reduce(
+            || (DVec2::INFINITY, DVec2::NEG_INFINITY),
+            |a, b| (a.0.min(b.0), a.1.max(b.1)),
+        );
+    (lo.is_finite() && hi.is_finite()).then(|| {
+        let margin = DVec2::splat(1e-3 * (hi - lo).max_element() + 1e-9);
+        (lo - margin, hi + margin)
+    })
+}

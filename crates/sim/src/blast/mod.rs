@@ -1,0 +1,227 @@
+//! Explosive-dispersal runs (`engine = "fem_dem"`): a charge modelled by grains-fem,
+//! a particle ring by grains-dem, coupled by grains-couple through penalty contact at
+//! the charge's edge (xue-2019 App. C). A scenario without a ring is a bare charge.
+//!
+//! The [`Blast`] simulation takes, every step, the largest step all three parts allow:
+//! the charge's CFL step, the particles' own, and the penalty springs' as they are now.
+
+pub mod assemble;
+pub mod check;
+pub mod frames;
+pub mod plots;
+pub mod probes;
+pub mod run;
+pub mod scenario;
+
+use crate::driver::{Clock, ParticleView, Simulation};
+use crate::output::Capabilities;
+use glam::DVec2;
+use grains_analysis::ring::{self as ring_analysis, Disks, RingFigures, Rule};
+use grains_couple::{coupled_step, Coupling, Ring};
+use grains_fem::diagnostics::{energies, fronts, Energies, Fronts};
+use grains_fem::{Charge, FemSetup};
+use std::borrow::Cow;
+
+/// What a FEM–DEM run writes, and its defaults.
+pub const CAPABILITIES: Capabilities = Capabilities {
+    engine: "fem_dem",
+    frames: 20,
+    history: 1000,
+    checkpoints: false,
+    lammps_dump: false,
+    grid: false,
+};
+
+/// Penetration of a particle into the charge, in radii, beyond which the contact has
+/// failed (the particle is about to pass through the edge).
+pub const RUNAWAY_PENETRATION: f64 = 0.9;
+
+/// A running FEM–DEM simulation.
+pub struct Blast {
+    /// The charge's settings.
+    pub fem: FemSetup,
+    /// The charge.
+    pub charge: Charge,
+    /// The ring, if any.
+    pub ring: Option<Ring>,
+    /// The charge's centre, about which the ring is measured.
+    pub centre: DVec2,
+    /// Initial total energy of the charge (J/m).
+    pub e0: f64,
+    /// The step of the last step taken (before the first: the initial bound).
+    pub dt: f64,
+    /// Smallest and largest step taken.
+    pub dt_range: (f64, f64),
+    /// Largest penetration into the charge so far, in radii.
+    pub max_penetration: f64,
+    /// The particles' own step bound (s).
+    pub dt_particles: f64,
+    /// Fraction of the penalty springs' stable step.
+    coupling_safety: f64,
+    /// How the ring's layers are told apart, with its sector count and mean diameter.
+    rule: Rule,
+    sectors: usize,
+    mean_d: f64,
+}
+
+/// One sample of a blast run.
+#[derive(Clone, Debug)]
+pub struct BlastSample {
+    /// The charge's energies.
+    pub energies: Energies,
+    /// The charge's burn and boundary.
+    pub fronts: Fronts,
+    /// The ring's radii, band and spall.
+    pub ring: Option<RingFigures>,
+}
+
+impl Blast {
+    /// Starts a run: the charge at rest, the ring in contact with it.
+    pub fn new(s: &scenario::Scenario, a: assemble::Assembled) -> Self {
+        let fem = a.fem;
+        let mut charge = Charge::new(&fem, &a.mesh);
+        let e0 = energies(&fem, &charge).total();
+        let coupling_safety = s.run.coupling_safety;
+        let (ring, dt_particles, mean_d) = match a.ring {
+            Some(rp) => {
+                let dt = rp.dt(coupling_safety);
+                let coupling = Coupling::new(rp.stiffness, rp.setup.skin);
+                let ring = Ring::new(rp.setup, rp.particles, coupling, &mut charge);
+                (Some(ring), dt, rp.mean_diameter)
+            }
+            None => (None, f64::INFINITY, 0.0),
+        };
+        let rule = rule(&s.analysis);
+        let r_in = s.ring.as_ref().map_or(0.0, |r| r.inner_radius);
+        let dt = (fem.safety * charge.dt_stable).min(dt_particles);
+        Blast {
+            centre: DVec2::from(s.charge.centre),
+            e0,
+            dt,
+            dt_range: (f64::INFINITY, 0.0),
+            max_penetration: 0.0,
+            dt_particles,
+            coupling_safety,
+            sectors: ring_analysis::sectors(&rule, r_in, mean_d),
+            rule,
+            mean_d,
+            fem,
+            charge,
+            ring,
+        }
+    }
+
+    /// The ring's figures now (radii, band and spall), if there is a ring.
+    pub fn ring_figures(&self) -> Option<RingFigures> {
+        let r = self.ring.as_ref()?;
+        let p = &r.state.particles;
+        let pressure = grains_dem::diagnostics::contact_pressure(&r.setup, &r.state, &[]);
+        let mass: Vec<f64> = (0..p.len()).map(|i| p.mass(i)).collect();
+        let disks = Disks {
+            pos: &p.pos,
+            vel: &p.vel,
+            radius: &p.radius,
+            mass: &mass,
+        };
+        Some(ring_analysis::measure(
+            &self.rule,
+            self.sectors,
+            disks,
+            self.centre,
+            self.mean_d,
+            &pressure,
+        ))
+    }
+}
+
+/// The ring analysis's rule from the scenario's `[analysis]`.
+pub fn rule(a: &scenario::AnalysisSpec) -> Rule {
+    Rule {
+        band_fraction: a.band_fraction,
+        radial_bin: a.radial_bin,
+        sectors: a.sectors,
+        stressed_pressure: a.stressed_pressure,
+    }
+}
+
+impl Simulation for Blast {
+    type Sample = BlastSample;
+
+    fn clock(&self) -> Clock {
+        Clock {
+            time: self.charge.time,
+            step: self.charge.step,
+        }
+    }
+
+    fn advance(&mut self) -> Result<(), String> {
+        let mut dt = (self.fem.safety * self.charge.dt_stable).min(self.dt_particles);
+        if let Some(r) = &self.ring {
+            dt = dt.min(self.coupling_safety * r.coupling.stable_dt());
+        }
+        self.dt_range = (self.dt_range.0.min(dt), self.dt_range.1.max(dt));
+        self.dt = dt;
+        match self.ring.as_mut() {
+            Some(r) => coupled_step(&self.fem, &mut self.charge, r, dt),
+            None => grains_fem::step(&self.fem, &mut self.charge, dt),
+        }
+        .map_err(|b| b.to_string())?;
+        if let Some(r) = &self.ring {
+            let pen = r.coupling.max_penetration_ratio;
+            self.max_penetration = self.max_penetration.max(pen);
+            if pen > RUNAWAY_PENETRATION {
+                return Err(format!(
+                    "a particle penetrated the charge's edge by {pen:.3} of its radius \
+                     (limit {RUNAWAY_PENETRATION}); raise coupling.stiffness_ratio or lower run.coupling_safety"
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn sample(&mut self) -> BlastSample {
+        BlastSample {
+            energies: energies(&self.fem, &self.charge),
+            fronts: fronts(&self.charge),
+            ring: self.ring_figures(),
+        }
+    }
+
+    fn unstable(&self, _s: &BlastSample) -> Option<String> {
+        let r = self.ring.as_ref()?;
+        let p = &r.state.particles;
+        let finite = p.pos.iter().chain(&p.vel).all(|v| v.is_finite());
+        (!finite).then(|| "a particle position or velocity is not finite".to_string())
+    }
+
+    fn particles(&self) -> ParticleView<'_> {
+        match &self.ring {
+            Some(r) => {
+                let p = &r.state.particles;
+                ParticleView {
+                    id: &p.id,
+                    pos: &p.pos,
+                    vel: &p.vel,
+                    radius: Cow::Borrowed(&p.radius),
+                    mass: Cow::Owned((0..p.len()).map(|i| p.mass(i)).collect()),
+                }
+            }
+            None => ParticleView {
+                id: &[],
+                pos: &[],
+                vel: &[],
+                radius: Cow::Borrowed(&[]),
+                mass: Cow::Borrowed(&[]),
+            },
+        }
+    }
+
+    fn state_hash(&self) -> u64 {
+        let mut h = grains_core::hash::Fnv1a::default();
+        h.word(grains_fem::diagnostics::state_hash(&self.charge));
+        if let Some(r) = &self.ring {
+            h.word(grains_dem::diagnostics::state_hash(&r.state));
+        }
+        h.finish()
+    }
+}

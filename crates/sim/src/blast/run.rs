@@ -1,0 +1,261 @@
+//! A FEM–DEM run from its scenario to its summary.
+
+use super::assemble::assemble;
+use super::scenario::Scenario;
+use super::{plots, probes, Blast, BlastSample, CAPABILITIES};
+use crate::driver::{
+    discount, Counters, Every, FrameKind, Horizon, Observer, Plan, Report, Status,
+};
+use crate::frames::FrameRecorder;
+use crate::history::{HistoryRecorder, Recorded};
+use crate::run::{drive, finish, fresh_out, summary, Costs, Finished, RunError, RunOptions};
+use crate::source::Source;
+use grains_core::plot::scatter_disks_png;
+use std::path::{Path, PathBuf};
+
+impl Recorded for Blast {
+    fn columns(&self) -> Vec<String> {
+        let mut c = vec![
+            "time",
+            "step",
+            "dt",
+            "charge_kinetic",
+            "charge_internal",
+            "charge_chemical",
+            "charge_total",
+            "work_on_charge",
+            "charge_energy_error",
+            "burnt_fraction",
+            "max_pressure",
+            "burn_front",
+            "charge_radius",
+            "charge_edge_speed",
+        ];
+        if self.ring.is_some() {
+            c.extend([
+                "particle_kinetic",
+                "coupling_energy",
+                "edge_contacts",
+                "max_penetration_ratio",
+                "inner_radius",
+                "outer_radius",
+                "pressure_front",
+                "band_outer",
+                "band_velocity",
+                "spall_velocity",
+                "band_fraction",
+                "mean_radial_velocity",
+                "neighbour_builds",
+            ]);
+        }
+        c.into_iter().map(String::from).collect()
+    }
+
+    fn integer_columns(&self) -> Vec<String> {
+        ["step", "edge_contacts", "neighbour_builds"]
+            .map(String::from)
+            .to_vec()
+    }
+
+    fn row(&self, s: &BlastSample) -> Vec<f64> {
+        let (e, f) = (&s.energies, &s.fronts);
+        let mut row = vec![
+            self.charge.time,
+            self.charge.step as f64,
+            self.dt,
+            e.kinetic,
+            e.internal,
+            e.chemical,
+            e.total(),
+            e.work_external,
+            e.balance(self.e0) / self.e0,
+            f.burnt,
+            f.max_pressure,
+            f.burn_front,
+            f.boundary_radius,
+            f.boundary_speed,
+        ];
+        if let (Some(r), Some(g)) = (&self.ring, &s.ring) {
+            row.extend([
+                g.kinetic,
+                r.coupling.energy,
+                r.coupling.contacts as f64,
+                r.coupling.max_penetration_ratio,
+                g.inner,
+                g.outer,
+                g.pressure_front,
+                g.band_outer,
+                g.band_velocity,
+                g.spall_velocity,
+                g.band_fraction,
+                g.mean_velocity,
+                r.state.contacts.builds as f64,
+            ]);
+        }
+        row
+    }
+}
+
+/// The schedule of a run of `s`.
+pub fn plan(s: &Scenario) -> Plan {
+    let o = &s.output;
+    let duration = s.run.duration;
+    Plan {
+        horizon: Horizon::Time(duration),
+        samples: Every::Time(duration / o.history(&CAPABILITIES) as f64),
+        frames: Every::Time(duration / o.frames(&CAPABILITIES).max(1) as f64),
+        snapshots: o.snapshot_times(),
+        checkpoint_every: None,
+    }
+}
+
+/// Runs `s` (read from `src`) into `opts.out`.
+pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished, RunError> {
+    super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
+    let a = assemble(s, &src.base).map_err(|e| RunError::Input(format!("{}: {e}", src.origin)))?;
+    let charge_mass = a.charge_mass;
+    let out = opts.out.clone();
+    opts.progress.announce(&format!(
+        "{} (fem_dem) — charge {} ({} elements), {} particles, dt ≈ {:.3e} s, {} threads → {}",
+        s.name,
+        a.fem.explosive.name,
+        a.mesh.tris.len(),
+        a.ring.as_ref().map_or(0, |r| r.particles.len()),
+        super::check::dt_initial(s, &a),
+        opts.threads,
+        out.display()
+    ));
+    fresh_out(&out, &src.text)?;
+    let mut sim = Blast::new(s, a);
+    let mut history = HistoryRecorder::create(&out, &mut sim)?;
+    let mut frames = FrameRecorder::create(&out, &sim).map_err(anyhow::Error::from)?;
+    let mut snaps = Snapshots {
+        dir: out.join("plots"),
+    };
+    std::fs::create_dir_all(&snaps.dir)
+        .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", snaps.dir.display()))?;
+    let plan = plan(s);
+    let outcome = {
+        let mut observers: Vec<&mut dyn Observer<Blast>> =
+            vec![&mut history, &mut frames, &mut snaps];
+        drive(
+            &mut sim,
+            &mut observers,
+            &plan,
+            &mut opts,
+            &src.text,
+            Counters::default(),
+        )?
+    };
+    let ctx = probes::Context {
+        scn: s,
+        fem: &sim.fem,
+        charge: &sim.charge,
+        e0: sim.e0,
+        history: &history.history,
+        charge_mass,
+        ring_mass: sim.ring.as_ref().map(|r| {
+            let p = &r.state.particles;
+            (0..p.len()).map(|i| p.mass(i)).sum()
+        }),
+    };
+    let (checks, mut figures, arrival) = probes::evaluate(&ctx);
+    figures.insert("max_penetration_ratio".into(), sim.max_penetration.into());
+    figures.insert("dt_min".into(), sim.dt_range.0.into());
+    figures.insert("dt_max".into(), sim.dt_range.1.into());
+    figures.insert("charge_elements".into(), sim.charge.n_elems().into());
+    if let Some(r) = &sim.ring {
+        figures.insert("coupling_stiffness".into(), r.coupling.stiffness.into());
+        figures.insert("coupling_builds".into(), r.coupling.builds.into());
+    }
+    let mut outcome = outcome;
+    outcome.report = merge(outcome.report, figures, checks, &outcome.status);
+    let reference = probes::band_reference(s);
+    let gurney = outcome
+        .report
+        .figures
+        .get("gurney_velocity")
+        .and_then(|v| v.as_f64());
+    plots::write_all(
+        &out.join("plots"),
+        &history.history,
+        sim.ring.is_some(),
+        &arrival,
+        reference,
+        gurney,
+    )?;
+    let mut counts = serde_json::Map::new();
+    counts.insert(
+        "neighbour_builds".into(),
+        sim.ring
+            .as_ref()
+            .map_or(0, |r| r.state.contacts.builds)
+            .into(),
+    );
+    let dt_critical = match &sim.ring {
+        Some(_) => sim.dt_particles,
+        None => sim.charge.dt_stable,
+    };
+    let costs = Costs {
+        dt: sim.dt,
+        dt_critical,
+        threads: opts.threads,
+        frames: frames.count(),
+    };
+    let sum = summary(&s.name, "fem_dem", &sim, &outcome, costs, counts);
+    finish(sum, outcome.status, &out)
+}
+
+/// The end-of-run checks and figures, after the loop's own.
+fn merge(
+    mut report: Report,
+    figures: serde_json::Map<String, serde_json::Value>,
+    checks: Vec<grains_core::checks::Check>,
+    status: &Status,
+) -> Report {
+    report.figures.extend(figures);
+    let mut more = Report {
+        figures: Default::default(),
+        checks,
+    };
+    discount(&mut more, status);
+    report.checks.extend(more.checks);
+    report
+}
+
+/// PNG maps of the particles coloured by speed (xue-2019 Fig. 5a), at the snapshot
+/// times and at the end.
+struct Snapshots {
+    dir: PathBuf,
+}
+
+impl Observer<Blast> for Snapshots {
+    fn on_frame(&mut self, sim: &Blast, kind: FrameKind) -> anyhow::Result<()> {
+        if let (Some(r), FrameKind::Snapshot) = (&sim.ring, kind) {
+            particle_map(&self.dir, sim.charge.time, &r.state)?;
+        }
+        Ok(())
+    }
+
+    fn on_end(&mut self, sim: &Blast, status: &Status, _report: &mut Report) -> anyhow::Result<()> {
+        if let (Some(r), true) = (&sim.ring, status.finished()) {
+            particle_map(&self.dir, sim.charge.time, &r.state)?;
+        }
+        Ok(())
+    }
+}
+
+/// A PNG of the particles coloured by speed.
+fn particle_map(dir: &Path, t: f64, s: &grains_dem::State) -> anyhow::Result<()> {
+    let p = &s.particles;
+    let speed: Vec<f64> = p.vel.iter().map(|v| v.length()).collect();
+    scatter_disks_png(
+        &dir.join(format!("particles_{:07.2}us.png", t * 1e6)),
+        &format!("Particles at t = {:.2} µs, coloured by speed", t * 1e6),
+        &p.pos,
+        &p.radius,
+        &speed,
+        "speed (m/s)",
+    )?;
+    Ok(())
+}

@@ -1,0 +1,100 @@
+//! `grains check` for DEM: the particle count and memory come from the scenario's
+//! sources without building them, so a run too large for memory is refused before any
+//! allocation; then the scenario is assembled in full and its step derived.
+
+use super::assemble::assemble;
+use super::scenario::{ParticleSource, Scenario};
+use crate::check::{Derived, Line};
+use crate::estimate::{self, rate, Estimate};
+use crate::source::Source;
+
+/// Bytes per particle: state (≈ 100 B), neighbour list with history and per-entry
+/// forces (≈ 4 entries × 40 B), reverse index and skin bookkeeping (≈ 30 B), and one
+/// wall spring per wall; the 1.8 M-disk bed peaks at 585 MB (≈ 325 B per disk).
+fn bytes_per_particle(walls: usize) -> u64 {
+    330 + 8 * walls as u64
+}
+
+/// The number of particles the scenario's sources hold, counted without building them
+/// (a file's lines, a data file's header).
+pub fn count(s: &Scenario, src: &Source) -> u64 {
+    s.particles
+        .iter()
+        .map(|p| match p {
+            ParticleSource::List { disks, .. } => disks.len() as u64,
+            ParticleSource::Lattice { count, .. } => *count as u64,
+            ParticleSource::File { path, .. } => {
+                estimate::packing_lines(&src.base.join(path)).unwrap_or(0)
+            }
+            ParticleSource::LammpsData { path, .. } => {
+                grains_core::lammps_data::atom_count(&src.base.join(path)).unwrap_or(0)
+            }
+        })
+        .sum()
+}
+
+/// The memory a run needs, checked against what is available, before anything is built.
+pub fn fits(s: &Scenario, src: &Source, threads: usize) -> Result<u64, String> {
+    let n = count(s, src);
+    let e = Estimate::new(
+        n,
+        0,
+        n * bytes_per_particle(s.walls.len()) + (1 << 20),
+        rate::DEM,
+        threads,
+    );
+    e.fits_memory(&format!("{}: particles", src.origin))?;
+    Ok(n)
+}
+
+/// What `grains check` prints for a DEM scenario.
+pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, String> {
+    fits(s, src, threads)?;
+    let a = assemble(s, &src.base).map_err(|e| format!("{}: {e}", src.origin))?;
+    let n = a.particles.len() as u64;
+    let walls = a.setup.walls.len();
+    let mut d = Derived {
+        lines: Derived::head(&s.name, "dem", &s.description),
+        ..Default::default()
+    };
+    d.lines.extend([
+        Line::new("particles", n, n.to_string()),
+        Line::new(
+            "materials",
+            a.setup.materials.len(),
+            a.setup.materials.len().to_string(),
+        ),
+        Line::new("walls", walls, walls.to_string()),
+        Line::new(
+            "dt",
+            a.dt,
+            format!(
+                "{:.4e} s ({:.3} of the stable limit {:.4e} s)",
+                a.dt,
+                a.dt / a.dt_critical,
+                a.dt_critical
+            ),
+        ),
+        Line::quiet("dt_critical", a.dt_critical),
+        Line::new(
+            "duration",
+            s.run.duration,
+            format!("{:.4e} s", s.run.duration),
+        ),
+        Line::new(
+            "steps",
+            a.steps,
+            format!("{} (exact: the step is fixed)", a.steps),
+        ),
+        Line::new("skin", a.setup.skin, format!("{:.4e} m", a.setup.skin)),
+    ]);
+    let e = Estimate::new(
+        n,
+        a.steps,
+        n * bytes_per_particle(walls) + (1 << 20),
+        rate::DEM,
+        threads,
+    );
+    d.cost(&e);
+    Ok(d)
+}

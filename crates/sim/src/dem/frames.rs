@@ -1,0 +1,121 @@
+//! ParaView output of a DEM run: particle frames and the walls as VTP, indexed by a PVD.
+
+use super::Dem;
+use crate::frames::Framed;
+use grains_core::atomic::write_atomic_with;
+use grains_core::vtk::{DataArray, PolyData};
+use grains_dem::{diagnostics, Setup, State};
+use std::io::{self, Write};
+use std::path::Path;
+
+impl Framed for Dem {
+    fn static_parts(&self, dir: &Path) -> io::Result<Vec<(&'static str, String)>> {
+        if self.setup.walls.is_empty() {
+            return Ok(Vec::new());
+        }
+        walls_polydata(&self.setup).write(&dir.join("walls.vtp"))?;
+        Ok(vec![("walls", "walls.vtp".into())])
+    }
+
+    fn write_frame(&self, dir: &Path, k: usize) -> io::Result<Vec<(&'static str, String)>> {
+        let name = format!("particles_{k:05}.vtp");
+        particles_polydata(&self.setup, &self.state).write(&dir.join(&name))?;
+        if self.lammps_dump {
+            let dump = format!("particles_{k:05}.dump");
+            write_atomic_with(&dir.join(dump), |w| {
+                lammps_dump(w, &self.setup, &self.state)
+            })?;
+        }
+        Ok(vec![("particles", name)])
+    }
+}
+
+/// The particles as VTK vertices with their fields.
+pub fn particles_polydata(setup: &Setup, s: &State) -> PolyData {
+    let p = &s.particles;
+    let mut poly = PolyData::from_points_2d(&p.pos);
+    let contacts = diagnostics::contact_counts(setup, s);
+    poly.point_data = vec![
+        DataArray::scalar_i64("id", p.id.iter().map(|&k| k as i64).collect()),
+        DataArray::scalar_f64("radius", p.radius.clone()),
+        DataArray::vector2_f64("velocity", &p.vel),
+        DataArray::scalar_f64("speed", p.vel.iter().map(|v| v.length()).collect()),
+        DataArray::scalar_f64("omega", p.omega.clone()),
+        DataArray::vector2_f64("force", &p.force),
+        DataArray::scalar_i32("contacts", contacts.iter().map(|&c| c as i32).collect()),
+        DataArray::scalar_i32("material", p.material.iter().map(|&m| m as i32).collect()),
+    ];
+    poly
+}
+
+/// A LAMMPS text dump (`dump custom ... id type x y z radius vx vy vz omegaz fx fy fz`)
+/// of the particles, which OVITO reads as a file sequence. Ids and types start at 1 as in
+/// LAMMPS (grains id + 1, material index + 1).
+pub fn lammps_dump(w: &mut dyn Write, setup: &Setup, s: &State) -> io::Result<()> {
+    let p = &s.particles;
+    let d = &setup.domain;
+    let bound = |periodic: bool| if periodic { "pp" } else { "ff" };
+    let rmax = p.max_radius().max(f64::MIN_POSITIVE);
+    writeln!(
+        w,
+        "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}",
+        s.step,
+        p.len()
+    )?;
+    writeln!(
+        w,
+        "ITEM: BOX BOUNDS {} {} pp",
+        bound(d.periodic[0]),
+        bound(d.periodic[1])
+    )?;
+    writeln!(
+        w,
+        "{:e} {:e}\n{:e} {:e}\n{:e} {:e}",
+        d.lo.x, d.hi.x, d.lo.y, d.hi.y, -rmax, rmax
+    )?;
+    writeln!(
+        w,
+        "ITEM: ATOMS id type x y z radius vx vy vz omegaz fx fy fz"
+    )?;
+    let mut order: Vec<usize> = (0..p.len()).collect();
+    order.sort_unstable_by_key(|&i| p.id[i]);
+    for i in order {
+        writeln!(
+            w,
+            "{} {} {:e} {:e} 0 {:e} {:e} {:e} 0 {:e} {:e} {:e} 0",
+            p.id[i] + 1,
+            p.material[i] + 1,
+            p.pos[i].x,
+            p.pos[i].y,
+            p.radius[i],
+            p.vel[i].x,
+            p.vel[i].y,
+            p.omega[i],
+            p.force[i].x,
+            p.force[i].y
+        )?;
+    }
+    Ok(())
+}
+
+/// The walls as poly-lines, with the wall index as cell data.
+pub fn walls_polydata(setup: &Setup) -> PolyData {
+    let mut points = Vec::new();
+    let mut lines = Vec::new();
+    for wall in &setup.walls {
+        let start = points.len() as i64;
+        let outline = wall.shape.outline();
+        points.extend(outline.iter().map(|q| [q.x, q.y, 0.0]));
+        lines.push((start..start + outline.len() as i64).collect());
+    }
+    PolyData {
+        points,
+        verts: Vec::new(),
+        lines,
+        point_data: Vec::new(),
+        cell_data: vec![DataArray::scalar_i32(
+            "wall",
+            (0..setup.walls.len() as i32).collect(),
+        )],
+    }
+}

@@ -1,0 +1,135 @@
+//! DEM runs (`engine = "dem"`, the default): the scenario, its assembly into a
+//! [`grains_dem`] set-up, the [`Dem`] simulation, its observers (probes, rest) and
+//! outputs (history rows, frames, plots, figures).
+
+pub mod assemble;
+pub mod check;
+pub mod frames;
+pub mod plots;
+pub mod probes;
+pub mod records;
+pub mod rest;
+pub mod run;
+pub mod scenario;
+
+use crate::driver::{Clock, ParticleView, Simulation};
+use crate::output::Capabilities;
+use grains_core::input::InputError;
+use grains_dem::diagnostics::{self, Diagnostics};
+use grains_dem::{step, Setup, State};
+use std::borrow::Cow;
+
+/// What a DEM run writes, and its defaults.
+pub const CAPABILITIES: Capabilities = Capabilities {
+    engine: "dem",
+    frames: 50,
+    history: 2000,
+    checkpoints: true,
+    lammps_dump: true,
+    grid: false,
+};
+
+/// Overlap (relative to the smaller radius) beyond which a run is declared unstable;
+/// a start beyond it is refused.
+pub const RUNAWAY_OVERLAP: f64 = 0.5;
+
+/// A running DEM simulation.
+pub struct Dem {
+    /// Engine configuration (read-only).
+    pub setup: Setup,
+    /// The evolving state.
+    pub state: State,
+    /// Time step (s).
+    pub dt: f64,
+    /// Also write a LAMMPS dump with every frame.
+    pub lammps_dump: bool,
+}
+
+impl Dem {
+    /// Starts a run: evaluates the initial forces, and refuses a start whose disks
+    /// already overlap beyond the runaway limit (coincident or deeply overlapping
+    /// disks blow up within a few steps).
+    pub fn new(a: assemble::Assembled, lammps_dump: bool) -> Result<Self, InputError> {
+        let state = State::new(&a.setup, a.particles);
+        if let Some((i, j, ratio)) = diagnostics::deepest_overlap(&a.setup, &state) {
+            if ratio > RUNAWAY_OVERLAP {
+                return Err(InputError::new(
+                    format!("particles {i} and {j}"),
+                    format!("overlap {:.3} of the smaller radius at the start", ratio),
+                    format!(
+                        "disks may overlap by at most {RUNAWAY_OVERLAP} of the smaller radius (the run's runaway limit); separate them"
+                    ),
+                ));
+            }
+        }
+        Ok(Dem {
+            setup: a.setup,
+            state,
+            dt: a.dt,
+            lammps_dump,
+        })
+    }
+
+    /// Continues from a checkpointed state.
+    pub fn resumed(setup: Setup, state: State, dt: f64, lammps_dump: bool) -> Self {
+        Dem {
+            setup,
+            state,
+            dt,
+            lammps_dump,
+        }
+    }
+}
+
+impl Simulation for Dem {
+    type Sample = Diagnostics;
+
+    fn clock(&self) -> Clock {
+        Clock {
+            time: self.state.time,
+            step: self.state.step,
+        }
+    }
+
+    fn advance(&mut self) -> Result<(), String> {
+        step(&self.setup, &mut self.state, self.dt);
+        Ok(())
+    }
+
+    fn sample(&mut self) -> Diagnostics {
+        diagnostics::measure(&self.setup, &self.state)
+    }
+
+    fn unstable(&self, d: &Diagnostics) -> Option<String> {
+        if !d.finite {
+            return Some("a position or velocity is not finite (NaN or infinity)".into());
+        }
+        (d.max_overlap_ratio > RUNAWAY_OVERLAP).then(|| {
+            format!(
+                "runaway overlap: {:.3} of a radius (limit {RUNAWAY_OVERLAP}); the time step is too large or the contacts too soft for the load",
+                d.max_overlap_ratio
+            )
+        })
+    }
+
+    fn particles(&self) -> ParticleView<'_> {
+        let p = &self.state.particles;
+        ParticleView {
+            id: &p.id,
+            pos: &p.pos,
+            vel: &p.vel,
+            radius: Cow::Borrowed(&p.radius),
+            mass: Cow::Owned((0..p.len()).map(|i| p.mass(i)).collect()),
+        }
+    }
+
+    fn state_hash(&self) -> u64 {
+        diagnostics::state_hash(&self.state)
+    }
+
+    fn checkpoint(&self) -> Option<Vec<u8>> {
+        let mut bytes = Vec::with_capacity(200 * self.state.particles.len());
+        grains_dem::checkpoint::write(&self.state, &mut bytes).ok()?;
+        Some(bytes)
+    }
+}

@@ -1,0 +1,297 @@
+//! Recorders that watch a few particles during a run and turn what they saw into the
+//! scenario's checks: binary collisions (restitution, contact time) and wall impacts
+//! (rigid-body impulse theory). They only read the state.
+
+use super::scenario::CheckSpec;
+use super::Dem;
+use crate::driver::{Observer, Report, Status};
+use glam::DVec2;
+use grains_core::checks::Check;
+use grains_dem::{Setup, State};
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+enum Phase {
+    #[default]
+    Before,
+    During,
+    After,
+}
+
+/// What a pair of particles did in their first collision.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+struct Collision {
+    ids: [u32; 2],
+    at: [usize; 2],
+    phase: Phase,
+    prev: (f64, f64),
+    vn_before: f64,
+    vn_after: f64,
+    start: f64,
+    end: f64,
+}
+
+/// What one particle did in its first impact on one wall.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+struct Impact {
+    id: u32,
+    wall: usize,
+    at: usize,
+    phase: Phase,
+    before: (DVec2, f64),
+    after: (DVec2, f64),
+    normal: DVec2,
+}
+
+/// All recorders a scenario's checks need.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct Probes {
+    collisions: Vec<Collision>,
+    impacts: Vec<Impact>,
+    builds_seen: u64,
+}
+
+fn zero_crossing(t0: f64, o0: f64, t1: f64, o1: f64) -> f64 {
+    if o1 == o0 {
+        t1
+    } else {
+        t0 + (t1 - t0) * (0.0 - o0) / (o1 - o0)
+    }
+}
+
+impl Probes {
+    /// Recorders for the given checks.
+    pub fn new(setup: &Setup, checks: &[CheckSpec]) -> Self {
+        let mut p = Probes::default();
+        for c in checks {
+            match c {
+                CheckSpec::Restitution { particles, .. }
+                | CheckSpec::ContactTime { particles, .. } => {
+                    if !p.collisions.iter().any(|k| k.ids == *particles) {
+                        p.collisions.push(Collision {
+                            ids: *particles,
+                            at: [0, 0],
+                            phase: Phase::Before,
+                            prev: (0.0, f64::NEG_INFINITY),
+                            vn_before: f64::NAN,
+                            vn_after: f64::NAN,
+                            start: f64::NAN,
+                            end: f64::NAN,
+                        });
+                    }
+                }
+                CheckSpec::ImpactTangentialVelocity { particle, wall, .. }
+                | CheckSpec::ImpactAngularVelocity { particle, wall, .. } => {
+                    let w = setup
+                        .walls
+                        .iter()
+                        .position(|x| &x.name == wall)
+                        .unwrap_or(0);
+                    if !p.impacts.iter().any(|k| k.id == *particle && k.wall == w) {
+                        p.impacts.push(Impact {
+                            id: *particle,
+                            wall: w,
+                            at: 0,
+                            phase: Phase::Before,
+                            before: (DVec2::NAN, f64::NAN),
+                            after: (DVec2::NAN, f64::NAN),
+                            normal: DVec2::NAN,
+                        });
+                    }
+                }
+                CheckSpec::WallForceOverWeight { .. } => {}
+            }
+        }
+        p.builds_seen = u64::MAX;
+        p
+    }
+
+    /// True when nothing needs watching step by step.
+    pub fn is_empty(&self) -> bool {
+        self.collisions.is_empty() && self.impacts.is_empty()
+    }
+
+    /// Looks at the state after a step.
+    pub fn observe(&mut self, setup: &Setup, s: &State) {
+        if self.is_empty() {
+            return;
+        }
+        let p = &s.particles;
+        if self.builds_seen != s.contacts.builds {
+            // Particles were re-sorted: find the watched ones again by id.
+            let find = |id: u32| p.id.iter().position(|&k| k == id).unwrap_or(0);
+            for c in &mut self.collisions {
+                c.at = [find(c.ids[0]), find(c.ids[1])];
+            }
+            for m in &mut self.impacts {
+                m.at = find(m.id);
+            }
+            self.builds_seen = s.contacts.builds;
+        }
+        for c in &mut self.collisions {
+            let [a, b] = c.at;
+            let d = setup.domain.min_image(p.pos[b] - p.pos[a]);
+            let dist = d.length();
+            let overlap = p.radius[a] + p.radius[b] - dist;
+            let vn = (p.vel[a] - p.vel[b]).dot(d / dist);
+            match c.phase {
+                Phase::Before if overlap > 0.0 => {
+                    c.start = zero_crossing(c.prev.0, c.prev.1, s.time, overlap);
+                    c.phase = Phase::During;
+                }
+                Phase::Before => c.vn_before = vn,
+                Phase::During if overlap <= 0.0 => {
+                    c.end = zero_crossing(c.prev.0, c.prev.1, s.time, overlap);
+                    c.vn_after = vn;
+                    c.phase = Phase::After;
+                }
+                _ => {}
+            }
+            c.prev = (s.time, overlap);
+        }
+        for m in &mut self.impacts {
+            let i = m.at;
+            let Some(touch) = setup.walls[m.wall].shape.nearest(p.pos[i]) else {
+                continue;
+            };
+            let overlap = p.radius[i] - touch.distance;
+            match m.phase {
+                Phase::Before if overlap > 0.0 => {
+                    m.normal = touch.normal;
+                    m.phase = Phase::During;
+                }
+                Phase::Before => m.before = (p.vel[i], p.omega[i]),
+                Phase::During if overlap <= 0.0 => {
+                    m.after = (p.vel[i], p.omega[i]);
+                    m.phase = Phase::After;
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// Turns the recordings into checks, in the order the scenario lists them.
+    pub fn checks(&self, setup: &Setup, s: &State, specs: &[CheckSpec]) -> Vec<Check> {
+        let p = &s.particles;
+        let mut out = Vec::new();
+        for spec in specs {
+            let (name, tol) = (spec.name(), spec.tolerance());
+            match spec {
+                CheckSpec::Restitution { particles, .. }
+                | CheckSpec::ContactTime { particles, .. } => {
+                    let c = self
+                        .collisions
+                        .iter()
+                        .find(|c| c.ids == *particles)
+                        .expect("recorder");
+                    let [a, b] = c.at;
+                    let m_eff = 1.0 / (p.inv_mass[a] + p.inv_mass[b]);
+                    let pair = setup
+                        .pairs
+                        .get(p.material[a] as usize, p.material[b] as usize);
+                    let (measured, expected) = match spec {
+                        CheckSpec::Restitution { .. } => {
+                            (-c.vn_after / c.vn_before, pair.restitution(m_eff))
+                        }
+                        _ => (c.end - c.start, pair.contact_time(m_eff)),
+                    };
+                    let mut check = Check::relative(name, measured, expected, tol);
+                    if c.phase != Phase::After {
+                        check = check.with_note("the collision did not complete within the run");
+                    }
+                    out.push(check);
+                }
+                CheckSpec::ImpactTangentialVelocity { particle, .. }
+                | CheckSpec::ImpactAngularVelocity { particle, .. } => {
+                    let m = self
+                        .impacts
+                        .iter()
+                        .find(|m| m.id == *particle)
+                        .expect("recorder");
+                    let i = m.at;
+                    let (v0, w0) = m.before;
+                    let n = m.normal;
+                    let t = n.perp();
+                    let r = p.radius[i];
+                    let f = setup.materials[p.material[i] as usize].inertia_factor;
+                    let pair = setup.wall_pair(m.wall, p.material[i] as usize);
+                    let mass = p.mass(i);
+                    let e = pair.restitution(mass);
+                    let vn = v0.dot(n);
+                    let slip = v0.dot(t) + r * w0;
+                    // Rigid-body impulse theory: Coulomb-limited tangential impulse, or the
+                    // impulse that stops sliding if that is smaller (1 + 1/f: the contact
+                    // point's inverse mass with rotation).
+                    let j = -slip.signum()
+                        * (pair.mu * (1.0 + e) * vn).min(slip.abs() / (1.0 + 1.0 / f));
+                    let (measured, expected) = match spec {
+                        CheckSpec::ImpactTangentialVelocity { .. } => {
+                            (m.after.0.dot(t), v0.dot(t) + j)
+                        }
+                        _ => (m.after.1, w0 + j / (f * r)),
+                    };
+                    let mut check = Check::relative(name, measured, expected, tol);
+                    if m.phase != Phase::After {
+                        check = check.with_note("the impact did not complete within the run");
+                    }
+                    out.push(check);
+                }
+                CheckSpec::WallForceOverWeight { wall, .. } => {
+                    let w = setup
+                        .walls
+                        .iter()
+                        .position(|x| &x.name == wall)
+                        .expect("validated");
+                    let g = setup.gravity;
+                    let weight: f64 = (0..p.len()).map(|i| p.mass(i)).sum::<f64>() * g.length();
+                    let along = s.wall_loads[w].force.dot(g.normalize());
+                    out.push(Check::relative(name, along / weight, 1.0, tol));
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The scenario's checks: the recorders, watching every step, and the specs they serve.
+pub struct CheckObserver {
+    /// The recorders.
+    pub probes: Probes,
+    /// The checks, in the scenario's order.
+    pub specs: Vec<CheckSpec>,
+}
+
+impl CheckObserver {
+    /// Recorders for `specs`, having seen the initial state.
+    pub fn new(sim: &Dem, specs: &[CheckSpec]) -> Self {
+        let mut probes = Probes::new(&sim.setup, specs);
+        probes.observe(&sim.setup, &sim.state);
+        CheckObserver {
+            probes,
+            specs: specs.to_vec(),
+        }
+    }
+}
+
+impl Observer<Dem> for CheckObserver {
+    fn on_step(&mut self, sim: &Dem) {
+        self.probes.observe(&sim.setup, &sim.state);
+    }
+
+    fn on_end(&mut self, sim: &Dem, _status: &Status, report: &mut Report) -> anyhow::Result<()> {
+        report
+            .checks
+            .extend(self.probes.checks(&sim.setup, &sim.state, &self.specs));
+        Ok(())
+    }
+
+    fn save(&self) -> Option<(&'static str, toml::Value)> {
+        toml::Value::try_from(&self.probes)
+            .ok()
+            .map(|v| ("probes", v))
+    }
+
+    fn restore(&mut self, state: toml::Value) -> anyhow::Result<()> {
+        self.probes = state.try_into()?;
+        Ok(())
+    }
+}

@@ -1,0 +1,169 @@
+//! A DEM run from its scenario to its summary; a run continued from a checkpoint goes
+//! on exactly as if it had never stopped.
+
+use super::assemble::{assemble, assemble_with, Assembled};
+use super::probes::CheckObserver;
+use super::records::figures;
+use super::rest::RestDetector;
+use super::scenario::Scenario;
+use super::{plots, Dem, CAPABILITIES};
+use crate::checkpoint::{self, Progress as Saved};
+use crate::driver::{restore_observers, Counters, Every, Horizon, Observer, Plan, Report, Status};
+use crate::frames::FrameRecorder;
+use crate::history::HistoryRecorder;
+use crate::run::{drive, finish, fresh_out, summary, Costs, Finished, RunError, RunOptions};
+use crate::source::Source;
+use grains_dem::State;
+use std::path::Path;
+
+/// A checkpoint read back: the run loop's progress and the engine state.
+pub struct Resume {
+    progress: Saved,
+    state: State,
+}
+
+/// Reads `dir/checkpoint.bin` for the scenario copy in `dir`.
+pub fn load_checkpoint(s: &Scenario, src: &Source, dir: &Path) -> Result<Resume, RunError> {
+    let (progress, bytes) =
+        checkpoint::load(&dir.join(checkpoint::FILE), &src.text).map_err(RunError::Input)?;
+    let name = dir.join(checkpoint::FILE).display().to_string();
+    let state = grains_dem::checkpoint::read(&mut bytes.as_slice(), 1 << 31)
+        .map_err(|e| RunError::Input(format!("{name}: {e}")))?;
+    let walls = s.walls.len();
+    if state.contacts.n_walls != walls {
+        return Err(RunError::Input(format!(
+            "{name}: the checkpoint has {} walls, the scenario {walls}",
+            state.contacts.n_walls
+        )));
+    }
+    Ok(Resume { progress, state })
+}
+
+/// The schedule of a run of `steps` steps.
+pub fn plan(s: &Scenario, steps: u64) -> Plan {
+    let o = &s.output;
+    Plan {
+        horizon: Horizon::Steps(steps),
+        samples: Every::Steps((steps / o.history(&CAPABILITIES).max(1)).max(1)),
+        frames: Every::Steps((steps / o.frames(&CAPABILITIES).max(1)).max(1)),
+        snapshots: o.snapshot_times(),
+        checkpoint_every: o.checkpoint_every,
+    }
+}
+
+/// Runs `s` (read from `src`) into `opts.out`, or continues it from `resume`.
+pub fn run(
+    s: &Scenario,
+    src: &Source,
+    mut opts: RunOptions,
+    resume: Option<Resume>,
+) -> Result<Finished, RunError> {
+    let input = |e: grains_core::input::InputError| RunError::Input(format!("{}: {e}", src.origin));
+    let out = opts.out.clone();
+    super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
+    let (mut sim, steps, dt_critical) = match &resume {
+        None => {
+            let a = assemble(s, &src.base).map_err(input)?;
+            let (steps, dt_critical) = (a.steps, a.dt_critical);
+            (
+                Dem::new(a, s.output.lammps_dump).map_err(input)?,
+                steps,
+                dt_critical,
+            )
+        }
+        Some(r) => {
+            let a: Assembled =
+                assemble_with(s, &src.base, Some(r.state.particles.clone())).map_err(input)?;
+            let (steps, dt_critical) = (a.steps, a.dt_critical);
+            let dem = Dem::resumed(a.setup, r.state.clone(), a.dt, s.output.lammps_dump);
+            (dem, steps, dt_critical)
+        }
+    };
+    let plan = plan(s, steps);
+    opts.progress.announce(&format!(
+        "{}{} (dem) — {} particles, dt = {:.3e} s, {} steps, {} threads → {}",
+        if resume.is_some() { "resuming " } else { "" },
+        s.name,
+        sim.state.particles.len(),
+        sim.dt,
+        steps,
+        opts.threads,
+        out.display()
+    ));
+    let every = match plan.samples {
+        Every::Steps(k) => k,
+        Every::Time(_) => 1,
+    };
+    let (mut history, mut frames, counters) = match &resume {
+        None => {
+            fresh_out(&out, &src.text)?;
+            let history = HistoryRecorder::create(&out, &mut sim)?;
+            let frames = FrameRecorder::create(&out, &sim).map_err(anyhow::Error::from)?;
+            (history, frames, Counters::default())
+        }
+        Some(r) => {
+            let c = r.progress.counters.clone();
+            let history = HistoryRecorder::reopen(&out, &sim, sim.state.step)?;
+            let frames = FrameRecorder::resume(&out, &sim, sim.state.time, c.frames)
+                .map_err(anyhow::Error::from)?;
+            (history, frames, c)
+        }
+    };
+    let mut checks = CheckObserver::new(&sim, &s.checks);
+    let mut rest = s.run.stop_kinetic_ratio.map(|ratio| {
+        let hold = s.run.stop_rest_time.unwrap_or(20.0 * every as f64 * sim.dt);
+        RestDetector::new(&sim, ratio, hold)
+    });
+    let mut ends = Figures { scenario: s };
+    let mut observers: Vec<&mut dyn Observer<Dem>> = vec![&mut history, &mut frames];
+    if let Some(r) = rest.as_mut() {
+        observers.push(r);
+    }
+    observers.push(&mut checks);
+    observers.push(&mut ends);
+    if let Some(r) = &resume {
+        restore_observers(&mut observers, &r.progress.observers)?;
+    }
+    let outcome = drive(
+        &mut sim,
+        &mut observers,
+        &plan,
+        &mut opts,
+        &src.text,
+        counters,
+    )?;
+    drop(observers);
+    plots::write_all(&out.join("plots"), &history.history, &sim.setup, &sim.state)?;
+    let mut counts = serde_json::Map::new();
+    counts.insert("neighbour_builds".into(), sim.state.contacts.builds.into());
+    let costs = Costs {
+        dt: sim.dt,
+        dt_critical,
+        threads: opts.threads,
+        frames: frames.count(),
+    };
+    let mut sum = summary(&s.name, "dem", &sim, &outcome, costs, counts);
+    if matches!(outcome.status, Status::Paused | Status::Interrupted) {
+        sum.message = Some(format!(
+            "stopped at step {} with a checkpoint; continue with `grains resume {}`",
+            outcome.clock.step,
+            out.display()
+        ));
+    }
+    finish(sum, outcome.status, &out)
+}
+
+/// The scenario's figures at the end of a run.
+struct Figures<'a> {
+    scenario: &'a Scenario,
+}
+
+impl Observer<Dem> for Figures<'_> {
+    fn on_end(&mut self, sim: &Dem, _status: &Status, report: &mut Report) -> anyhow::Result<()> {
+        let d = grains_dem::diagnostics::measure(&sim.setup, &sim.state);
+        report
+            .figures
+            .extend(figures(self.scenario, &sim.setup, &sim.state, &d));
+        Ok(())
+    }
+}

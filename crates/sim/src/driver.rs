@@ -1,0 +1,478 @@
+//! The one run loop every engine uses.
+//!
+//! A [`Simulation`] advances itself one step at a time and measures itself on request;
+//! [`Observer`]s watch it (history, frames, probes, snapshots, stop rules) and add their
+//! figures and checks to the [`Report`] at the end. The [`Plan`] says when to sample,
+//! when to write frames and checkpoints, and when the run is over; [`Control`] carries
+//! what comes from outside (a pause step, an interrupt flag, a progress display).
+//!
+//! Per step: `advance → on_step`; at sample times: `sample → instability test →
+//! on_sample` (an observer may stop the run, e.g. at rest); at frame and snapshot times:
+//! `on_frame`; then progress, and pause/interrupt/checkpoint. At the end, a run that
+//! finished gets its last frame, and every observer reports.
+
+use crate::checkpoint::{self, Progress as SavedProgress};
+use anyhow::Context as _;
+use glam::DVec2;
+use grains_core::checks::Check;
+use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+/// Where a run stands.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Clock {
+    /// Simulated time (s).
+    pub time: f64,
+    /// Steps taken.
+    pub step: u64,
+}
+
+/// The particles of a run, as any analysis reads them (SI units, per unit thickness).
+/// Engines without a field of their own compute it on demand (`Cow::Owned`).
+#[derive(Clone, Debug)]
+pub struct ParticleView<'a> {
+    /// Stable ids (creation order).
+    pub id: &'a [u32],
+    /// Positions (m).
+    pub pos: &'a [DVec2],
+    /// Velocities (m/s).
+    pub vel: &'a [DVec2],
+    /// Radii (m); for material points, the radius of a disk of the point's volume.
+    pub radius: Cow<'a, [f64]>,
+    /// Masses (kg/m).
+    pub mass: Cow<'a, [f64]>,
+}
+
+/// A running simulation, stepped by [`run`] (on a worker of the thread pool, hence
+/// `Send`).
+pub trait Simulation: Send {
+    /// What one sample measures (energies, contacts, ...), shared by every observer.
+    type Sample;
+
+    /// Time and step count.
+    fn clock(&self) -> Clock;
+    /// Advances one step; `Err` names what went wrong when the state broke down.
+    fn advance(&mut self) -> Result<(), String>;
+    /// Measures the present state (and updates whatever the measurement tracks from one
+    /// sample to the next, such as an unwrapped rotation angle).
+    fn sample(&mut self) -> Self::Sample;
+    /// Why the sampled state counts as unstable, if it does.
+    fn unstable(&self, sample: &Self::Sample) -> Option<String>;
+    /// The particles as they are now.
+    fn particles(&self) -> ParticleView<'_>;
+    /// Fingerprint of the whole state: equal fingerprints mean bitwise-equal runs.
+    fn state_hash(&self) -> u64;
+    /// The engine state as checkpoint bytes, when the engine can be resumed.
+    fn checkpoint(&self) -> Option<Vec<u8>> {
+        None
+    }
+}
+
+/// What an observer asks of the run after a sample.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Flow {
+    /// Go on.
+    Continue,
+    /// Stop now with this status.
+    Stop(Status),
+}
+
+/// Why a frame is written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameKind {
+    /// On the regular schedule.
+    Regular,
+    /// At one of the plan's snapshot times.
+    Snapshot,
+    /// The state at the end of a run that finished.
+    Final,
+}
+
+/// Watches a run. Every method has a default that does nothing.
+pub trait Observer<S: Simulation>: Send {
+    /// After every step (cheap work only).
+    fn on_step(&mut self, _sim: &S) {}
+    /// At sample times, with the sample.
+    fn on_sample(&mut self, _sim: &S, _sample: &S::Sample) -> anyhow::Result<Flow> {
+        Ok(Flow::Continue)
+    }
+    /// At frame times.
+    fn on_frame(&mut self, _sim: &S, _kind: FrameKind) -> anyhow::Result<()> {
+        Ok(())
+    }
+    /// At the end: add figures and checks to the report. Called for every status.
+    fn on_end(&mut self, _sim: &S, _status: &Status, _report: &mut Report) -> anyhow::Result<()> {
+        Ok(())
+    }
+    /// What this observer must carry across a checkpoint (name, state); `None` for none.
+    fn save(&self) -> Option<(&'static str, toml::Value)> {
+        None
+    }
+    /// Takes back what [`Observer::save`] gave, when a run resumes.
+    fn restore(&mut self, _state: toml::Value) -> anyhow::Result<()> {
+        Ok(())
+    }
+}
+
+/// How a run ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Status {
+    /// Ran to its end.
+    Completed,
+    /// Stopped early because it came to rest.
+    AtRest,
+    /// Stopped because the state broke down; the message says how and when.
+    Unstable(String),
+    /// Stopped at the requested step, with a checkpoint.
+    Paused,
+    /// Stopped by a signal, with a checkpoint (where the engine supports one).
+    Interrupted,
+}
+
+impl Status {
+    /// The value of `summary.status`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Status::Completed => "completed",
+            Status::AtRest => "at_rest",
+            Status::Unstable(_) => "unstable",
+            Status::Paused => "paused",
+            Status::Interrupted => "interrupted",
+        }
+    }
+
+    /// Whether the run reached an end of its own (its checks mean something).
+    pub fn finished(&self) -> bool {
+        matches!(self, Status::Completed | Status::AtRest)
+    }
+}
+
+/// A recurring event: every so many steps, or every so much simulated time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Every {
+    /// On steps that are multiples of this.
+    Steps(u64),
+    /// At the first step at or past each multiple of this time (s).
+    Time(f64),
+}
+
+/// When a run ends.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Horizon {
+    /// After this many steps.
+    Steps(u64),
+    /// Once the time reaches this (s).
+    Time(f64),
+}
+
+impl Horizon {
+    fn reached(&self, c: Clock) -> bool {
+        match *self {
+            Horizon::Steps(n) => c.step >= n,
+            Horizon::Time(t) => c.time >= t * (1.0 - 1e-12),
+        }
+    }
+
+    fn fraction(&self, c: Clock) -> f64 {
+        match *self {
+            Horizon::Steps(n) => c.step as f64 / n.max(1) as f64,
+            Horizon::Time(t) => c.time / t,
+        }
+    }
+}
+
+/// The schedule of a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// When the run is over.
+    pub horizon: Horizon,
+    /// History samples (also where stability is judged).
+    pub samples: Every,
+    /// Regular frames.
+    pub frames: Every,
+    /// Extra frames at these times (s), ascending.
+    pub snapshots: Vec<f64>,
+    /// Checkpoints every so many steps.
+    pub checkpoint_every: Option<u64>,
+}
+
+/// A progress display (the CLI's bar; nothing in a library call).
+pub trait Progress: Send {
+    /// A line about what is about to run (sizes, step, threads).
+    fn announce(&mut self, _line: &str) {}
+    /// How far the run has got (0 to 1) and where it stands.
+    fn update(&mut self, done: f64, clock: Clock);
+    /// The run is over.
+    fn finish(&mut self) {}
+}
+
+/// No display.
+pub struct Silent;
+
+impl Progress for Silent {
+    fn update(&mut self, _done: f64, _clock: Clock) {}
+}
+
+/// What reaches the loop from outside.
+pub struct Control<'a> {
+    /// Stop with a checkpoint once this step is reached.
+    pub stop_at_step: Option<u64>,
+    /// Set (by a signal handler) to stop with a checkpoint.
+    pub interrupt: Option<&'a AtomicBool>,
+    /// Where progress goes.
+    pub progress: &'a mut dyn Progress,
+    /// Where checkpoints are written (the run directory); none: no checkpoints.
+    pub checkpoint_dir: Option<PathBuf>,
+    /// The scenario text the checkpoints belong to.
+    pub scenario_text: &'a str,
+}
+
+/// Figures and checks of a run, filled by the observers at the end.
+#[derive(Clone, Debug, Default)]
+pub struct Report {
+    /// Named figures for `summary.json`.
+    pub figures: serde_json::Map<String, serde_json::Value>,
+    /// Checks, in the scenario's order.
+    pub checks: Vec<Check>,
+}
+
+/// What a run did.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    /// How it ended.
+    pub status: Status,
+    /// Where it ended.
+    pub clock: Clock,
+    /// Steps taken in this and earlier segments of the run.
+    pub steps_run: u64,
+    /// Wall-clock seconds of the time loop, earlier segments included.
+    pub wall_time_s: f64,
+    /// Figures and checks.
+    pub report: Report,
+}
+
+/// Counters that survive a checkpoint.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct Counters {
+    /// Frames written so far.
+    pub frames: usize,
+    /// Step of the last frame.
+    pub last_frame_step: Option<u64>,
+    /// Next sample time (time-based plans).
+    pub next_sample: f64,
+    /// Next frame time (time-based plans).
+    pub next_frame: f64,
+    /// Snapshots taken.
+    pub snapshots_done: usize,
+    /// Wall-clock seconds spent in earlier segments.
+    pub wall_time: f64,
+    /// Steps run in earlier segments.
+    pub steps_before: u64,
+}
+
+/// Whether a recurring event is due at `c` (and, for time-based events, moves `next`
+/// past it).
+fn due(every: Every, c: Clock, next: &mut f64) -> bool {
+    match every {
+        Every::Steps(k) => c.step.is_multiple_of(k.max(1)),
+        Every::Time(dt) => {
+            if c.time >= *next {
+                while *next <= c.time {
+                    *next += dt;
+                }
+                true
+            } else {
+                false
+            }
+        }
+    }
+}
+
+/// Runs `sim` to the end of `plan`, feeding `observers`. `counters` are fresh for a new
+/// run and the checkpoint's for a resumed one. Observer and checkpoint I/O errors are
+/// returned; a breakdown of the state is a [`Status::Unstable`] outcome.
+pub fn run<S: Simulation>(
+    sim: &mut S,
+    observers: &mut [&mut dyn Observer<S>],
+    plan: &Plan,
+    control: &mut Control,
+    mut counters: Counters,
+) -> anyhow::Result<Outcome> {
+    let first_step = sim.clock().step;
+    if counters.frames == 0 && counters.last_frame_step.is_none() {
+        if let Every::Time(dt) = plan.samples {
+            counters.next_sample = dt;
+        }
+        if let Every::Time(dt) = plan.frames {
+            counters.next_frame = dt;
+        }
+        frame(sim, observers, FrameKind::Regular, &mut counters)?;
+    }
+    let started = Instant::now();
+    let mut status = Status::Completed;
+    // Stepping from inside the pool keeps each parallel pass from waking it from outside.
+    rayon::scope(|_| -> anyhow::Result<()> {
+        while !plan.horizon.reached(sim.clock()) {
+            if let Err(why) = sim.advance() {
+                status = unstable_at(sim.clock(), &why);
+                return Ok(());
+            }
+            for o in observers.iter_mut() {
+                o.on_step(sim);
+            }
+            let c = sim.clock();
+            let end = plan.horizon.reached(c);
+            if due(plan.samples, c, &mut counters.next_sample) || end {
+                let sample = sim.sample();
+                if let Some(why) = sim.unstable(&sample) {
+                    status = unstable_at(c, &why);
+                    return Ok(());
+                }
+                for o in observers.iter_mut() {
+                    if let Flow::Stop(s) = o.on_sample(sim, &sample)? {
+                        status = s;
+                    }
+                }
+                if status != Status::Completed {
+                    return Ok(());
+                }
+            }
+            if due(plan.frames, c, &mut counters.next_frame) {
+                frame(sim, observers, FrameKind::Regular, &mut counters)?;
+            }
+            let mut snapped = false;
+            while counters.snapshots_done < plan.snapshots.len()
+                && c.time >= plan.snapshots[counters.snapshots_done] * (1.0 - 1e-9)
+            {
+                counters.snapshots_done += 1;
+                snapped = true;
+            }
+            if snapped {
+                frame(sim, observers, FrameKind::Snapshot, &mut counters)?;
+            }
+            control.progress.update(plan.horizon.fraction(c), c);
+            let pause = control.stop_at_step.is_some_and(|s| c.step >= s);
+            let signal = control.interrupt.is_some_and(|f| f.load(Ordering::Relaxed));
+            let periodic = plan
+                .checkpoint_every
+                .is_some_and(|k| c.step.is_multiple_of(k.max(1)));
+            if pause || signal || periodic {
+                let mut saved = counters.clone();
+                saved.wall_time += started.elapsed().as_secs_f64();
+                saved.steps_before += c.step - first_step;
+                save_checkpoint(sim, observers, control, &saved)?;
+                if pause || signal {
+                    status = if signal {
+                        Status::Interrupted
+                    } else {
+                        Status::Paused
+                    };
+                    return Ok(());
+                }
+            }
+        }
+        Ok(())
+    })?;
+    control.progress.finish();
+    let clock = sim.clock();
+    let wall_time_s = counters.wall_time + started.elapsed().as_secs_f64();
+    let steps_run = counters.steps_before + clock.step - first_step;
+    if status.finished() && counters.last_frame_step != Some(clock.step) {
+        frame(sim, observers, FrameKind::Final, &mut counters)?;
+    }
+    let mut report = Report::default();
+    for o in observers.iter_mut() {
+        o.on_end(sim, &status, &mut report)?;
+    }
+    discount(&mut report, &status);
+    Ok(Outcome {
+        status,
+        clock,
+        steps_run,
+        wall_time_s,
+        report,
+    })
+}
+
+/// A run that did not finish has not earned its checks: an unstable run's fail, with a
+/// note saying why; a paused or interrupted run (it will go on) reports none yet.
+pub fn discount(report: &mut Report, status: &Status) {
+    match status {
+        Status::Completed | Status::AtRest => {}
+        Status::Paused | Status::Interrupted => report.checks.clear(),
+        Status::Unstable(_) => {
+            for c in &mut report.checks {
+                c.pass = false;
+                let why = format!("the run did not finish (status {})", status.name());
+                c.note = Some(match c.note.take() {
+                    Some(n) => format!("{why}; {n}"),
+                    None => why,
+                });
+            }
+        }
+    }
+}
+
+fn unstable_at(c: Clock, why: &str) -> Status {
+    Status::Unstable(format!("step {} (t = {:.6e} s): {why}", c.step, c.time))
+}
+
+fn frame<S: Simulation>(
+    sim: &S,
+    observers: &mut [&mut dyn Observer<S>],
+    kind: FrameKind,
+    counters: &mut Counters,
+) -> anyhow::Result<()> {
+    for o in observers.iter_mut() {
+        o.on_frame(sim, kind)?;
+    }
+    counters.frames += 1;
+    counters.last_frame_step = Some(sim.clock().step);
+    Ok(())
+}
+
+fn save_checkpoint<S: Simulation>(
+    sim: &S,
+    observers: &[&mut dyn Observer<S>],
+    control: &Control,
+    counters: &Counters,
+) -> anyhow::Result<()> {
+    let (Some(dir), Some(state)) = (&control.checkpoint_dir, sim.checkpoint()) else {
+        return Ok(());
+    };
+    let mut saved = SavedProgress {
+        counters: counters.clone(),
+        observers: toml::Table::new(),
+    };
+    for o in observers {
+        if let Some((name, v)) = o.save() {
+            saved.observers.insert(name.to_string(), v);
+        }
+    }
+    let path = dir.join(checkpoint::FILE);
+    checkpoint::save(&path, control.scenario_text, &state, &saved)
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Hands each observer what it saved in a checkpoint.
+pub fn restore_observers<S: Simulation>(
+    observers: &mut [&mut dyn Observer<S>],
+    saved: &toml::Table,
+) -> anyhow::Result<()> {
+    for o in observers.iter_mut() {
+        if let Some((name, _)) = o.save() {
+            if let Some(v) = saved.get(name) {
+                o.restore(v.clone())?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The directory a run writes into by default: `runs/<name>`.
+pub fn default_out(name: &str) -> PathBuf {
+    Path::new("runs").join(name)
+}

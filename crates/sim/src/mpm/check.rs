@@ -1,0 +1,136 @@
+//! `grains check` for MPM: the point count and grid size come from the scenario's shapes
+//! and grid without filling them, so a run too large for memory is refused before any
+//! allocation; then the scenario is assembled in full and its step derived.
+
+use super::run::prepare;
+use super::scenario::Scenario;
+use crate::check::{Derived, Line};
+use crate::estimate::{rate, Estimate};
+use crate::source::Source;
+
+/// Points: ~170 B of state; grid: one 64 B record + 32 B kinematics per node and body
+/// patch, plus the 80 B global sums with several bodies.
+fn memory(points: u64, nodes: u64) -> u64 {
+    points * 170 + nodes * (96 + 80) + (1 << 20)
+}
+
+/// Points and grid nodes the scenario asks for, from its shapes' areas.
+fn size(s: &Scenario) -> (u64, u64) {
+    let g = &s.grid;
+    let pitch = g.cell_size / g.particles_per_cell.max(1) as f64;
+    let points: f64 = s
+        .bodies
+        .iter()
+        .map(|b| b.geometry.area() / (pitch * pitch))
+        .filter(|n| n.is_finite())
+        .sum();
+    let cells = |k: usize| ((g.hi[k] - g.lo[k]) / g.cell_size).abs();
+    let nodes = (cells(0) + 1.0) * (cells(1) + 1.0);
+    let clamp = |v: f64| {
+        if v.is_finite() {
+            v.min(1e19) as u64
+        } else {
+            u64::MAX
+        }
+    };
+    (clamp(points), clamp(nodes))
+}
+
+/// The memory a run needs, checked against what is available, before anything is built.
+pub fn fits(s: &Scenario, src: &Source, threads: usize) -> Result<(), String> {
+    let (points, nodes) = size(s);
+    Estimate::new(points, 0, memory(points, nodes), rate::MPM, threads)
+        .fits_memory(&format!("{}: bodies and grid", src.origin))
+}
+
+/// What `grains check` prints for an MPM scenario.
+pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, String> {
+    fits(s, src, threads)?;
+    let a = prepare(s, src)?;
+    let setup = &a.setup;
+    let mut d = Derived {
+        lines: Derived::head(&s.name, "mpm", &s.description),
+        ..Default::default()
+    };
+    d.lines.push(Line::new(
+        "grid",
+        serde_json::json!({"cells": setup.grid.cells, "cell_size": setup.grid.h}),
+        format!(
+            "{} × {} cells of {:.4e} m, {} shape functions, {} update",
+            setup.grid.cells[0], setup.grid.cells[1], setup.grid.h, s.method.shape, s.method.update
+        ),
+    ));
+    let n = a.particles.len() as u64;
+    d.lines
+        .push(Line::new("particles", n, format!("{n} material points")));
+    let bodies: Vec<serde_json::Value> = setup
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(k, b)| {
+            serde_json::json!({
+                "name": b.name,
+                "points": a.counts[k],
+                "area": a.areas[k],
+                "mass": a.areas[k] * setup.materials[b.material].density(),
+                "rigid": b.motion != grains_mpm::Motion::Free,
+            })
+        })
+        .collect();
+    let text: Vec<String> = bodies
+        .iter()
+        .map(|b| {
+            format!(
+                "{} ({} points, area {:.5e} m², mass {:.5e} kg/m{})",
+                b["name"].as_str().unwrap_or_default(),
+                b["points"],
+                b["area"].as_f64().unwrap_or(f64::NAN),
+                b["mass"].as_f64().unwrap_or(f64::NAN),
+                if b["rigid"] == true { ", rigid" } else { "" }
+            )
+        })
+        .collect();
+    d.lines.push(Line::new("bodies", bodies, text.join("; ")));
+    let c = setup
+        .materials
+        .iter()
+        .map(|m| m.wave_speed())
+        .fold(0.0, f64::max);
+    d.lines.push(Line::new(
+        "wave_speed_max",
+        c,
+        format!("{c:.4e} m/s (plane-strain dilatational, fastest material)"),
+    ));
+    d.lines.extend([
+        Line::new(
+            "dt",
+            a.dt,
+            format!(
+                "{:.4e} s ({:.3} of the stable limit {:.4e} s)",
+                a.dt,
+                a.dt / a.dt_critical,
+                a.dt_critical
+            ),
+        ),
+        Line::quiet("dt_critical", a.dt_critical),
+        Line::new(
+            "duration",
+            s.run.duration,
+            format!("{:.4e} s", s.run.duration),
+        ),
+        Line::new(
+            "steps",
+            a.steps,
+            format!("{} (exact: the step is fixed)", a.steps),
+        ),
+    ]);
+    let nodes = (setup.grid.stored()[0] * setup.grid.stored()[1]) as u64;
+    d.cost(&Estimate::new(
+        n,
+        a.steps,
+        memory(n, nodes),
+        rate::MPM,
+        threads,
+    ));
+    Ok(d)
+}

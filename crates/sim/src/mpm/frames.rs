@@ -1,0 +1,108 @@
+//! ParaView output of an MPM run: the material points as VTP and the grid as VTU, frame
+//! by frame, indexed by `frames/series.pvd`.
+
+use super::Mpm;
+use crate::frames::Framed;
+use grains_core::vtk::{cell_type, ArrayData, DataArray, PolyData, UnstructuredGrid};
+use grains_mpm::grid::GHOST;
+use grains_mpm::{Setup, Solver, State};
+use std::io;
+use std::path::Path;
+
+impl Framed for Mpm {
+    fn write_frame(&self, dir: &Path, k: usize) -> io::Result<Vec<(&'static str, String)>> {
+        let name = format!("points_{k:05}.vtp");
+        points_polydata(&self.state).write(&dir.join(&name))?;
+        let mut parts = vec![("points", name)];
+        if self.grid_frames {
+            let g = format!("grid_{k:05}.vtu");
+            grid_vtu(&self.setup, &self.solver).write(&dir.join(&g))?;
+            parts.push(("grid", g));
+        }
+        Ok(parts)
+    }
+}
+
+/// The material points with their fields, in creation order.
+pub fn points_polydata(s: &State) -> PolyData {
+    let p = &s.particles;
+    let mut order: Vec<usize> = (0..p.len()).collect();
+    order.sort_unstable_by_key(|&i| p.id[i]);
+    let pos: Vec<_> = order.iter().map(|&i| p.pos[i]).collect();
+    let vel: Vec<_> = order.iter().map(|&i| p.vel[i]).collect();
+    let f = |g: &dyn Fn(usize) -> f64| order.iter().map(|&i| g(i)).collect::<Vec<f64>>();
+    let mut tensor = Vec::with_capacity(6 * p.len());
+    for &i in &order {
+        let t = p.stress[i];
+        // ParaView's symmetric tensor order: XX, YY, ZZ, XY, YZ, XZ.
+        tensor.extend_from_slice(&[t.xx, t.yy, t.zz, t.xy, 0.0, 0.0]);
+    }
+    let mut poly = PolyData::from_points_2d(&pos);
+    poly.point_data = vec![
+        DataArray::scalar_i64("id", order.iter().map(|&i| p.id[i] as i64).collect()),
+        DataArray::scalar_i32("body", order.iter().map(|&i| p.body[i] as i32).collect()),
+        DataArray::vector2_f64("velocity", &vel),
+        DataArray::new("stress", 6, ArrayData::F64(tensor)),
+        DataArray::scalar_f64("pressure", f(&|i| p.stress[i].pressure())),
+        DataArray::scalar_f64(
+            "principal_stress_difference",
+            f(&|i| p.stress[i].principal_difference()),
+        ),
+        DataArray::scalar_f64("mass", f(&|i| p.mass[i])),
+        DataArray::scalar_f64("volume", f(&|i| p.volume(i))),
+        DataArray::scalar_f64("jacobian", f(&|i| p.def[i].determinant())),
+    ];
+    poly
+}
+
+/// The domain's nodes (ghosts left out) with the fields of the last step summed over
+/// bodies: mass, centre-of-mass velocity, number of bodies, contact flags.
+pub fn grid_vtu(setup: &Setup, w: &Solver) -> UnstructuredGrid {
+    let grid = &setup.grid;
+    let [nx, ny] = [grid.cells[0] + 1, grid.cells[1] + 1];
+    let mut mass = vec![0.0; nx * ny];
+    let mut mom = vec![glam::DVec2::ZERO; nx * ny];
+    let mut bodies = vec![0i32; nx * ny];
+    let mut touched = vec![0i32; nx * ny];
+    for patch in &w.patches {
+        for (k, n) in patch.nodes.iter().enumerate() {
+            let [c, r] = patch.stored(k);
+            if n.m <= 0.0 || c < GHOST || r < GHOST || c - GHOST >= nx || r - GHOST >= ny {
+                continue;
+            }
+            let at = (r - GHOST) * nx + (c - GHOST);
+            mass[at] += n.m;
+            mom[at] += n.p;
+            bodies[at] += 1;
+            touched[at] |= n.touched as i32;
+        }
+    }
+    let mut u = UnstructuredGrid::default();
+    for j in 0..ny {
+        for i in 0..nx {
+            let x = grid.node_pos([i + GHOST, j + GHOST]);
+            u.points.push([x.x, x.y, 0.0]);
+        }
+    }
+    for j in 0..ny - 1 {
+        for i in 0..nx - 1 {
+            let a = (j * nx + i) as i64;
+            u.push_cell(
+                cell_type::QUAD,
+                &[a, a + 1, a + 1 + nx as i64, a + nx as i64],
+            );
+        }
+    }
+    let vel: Vec<_> = mass
+        .iter()
+        .zip(&mom)
+        .map(|(m, p)| if *m > 0.0 { *p / *m } else { glam::DVec2::ZERO })
+        .collect();
+    u.point_data = vec![
+        DataArray::scalar_f64("mass", mass),
+        DataArray::vector2_f64("velocity", &vel),
+        DataArray::scalar_i32("bodies", bodies),
+        DataArray::scalar_i32("contact", touched),
+    ];
+    u
+}

@@ -1,0 +1,180 @@
+//! MPM runs (`engine = "mpm"`): the scenario, its assembly into a [`grains_mpm`]
+//! set-up, the [`Mpm`] simulation, the body watch (impacts, samples, snapshots) and
+//! outputs (history rows, frames, plots, figures, checks).
+
+pub mod assemble;
+pub mod check;
+pub mod frames;
+pub mod plots;
+pub mod probes;
+pub mod run;
+pub mod scenario;
+pub mod watch;
+
+use crate::driver::{Clock, ParticleView, Simulation};
+use crate::output::Capabilities;
+use grains_mpm::diagnostics::{measure, Diagnostics};
+use grains_mpm::{step, Motion, Setup, Solver, State};
+use probes::{BodySample, Sample};
+use std::borrow::Cow;
+
+/// What an MPM run writes, and its defaults.
+pub const CAPABILITIES: Capabilities = Capabilities {
+    engine: "mpm",
+    frames: 50,
+    history: 2000,
+    checkpoints: false,
+    lammps_dump: false,
+    grid: true,
+};
+
+/// A running MPM simulation.
+pub struct Mpm {
+    /// Engine configuration (read-only).
+    pub setup: Setup,
+    /// The points.
+    pub state: State,
+    /// Scratch space of the stages (its grid holds the last step's fields).
+    pub solver: Solver,
+    /// Time step (s).
+    pub dt: f64,
+    /// Also write the grid with every frame.
+    pub grid_frames: bool,
+    /// The last sample, against which rotations are unwrapped.
+    last: Option<MpmSample>,
+}
+
+/// One MPM sample: the diagnostics and what they mean per body (rotation unwrapped).
+#[derive(Clone, Debug)]
+pub struct MpmSample {
+    /// Energies, momentum, per-body kinematics.
+    pub diagnostics: Diagnostics,
+    /// The same as the record keeps it.
+    pub sample: Sample,
+}
+
+impl Mpm {
+    /// The last sample taken, if any.
+    pub fn last_sample(&self) -> Option<MpmSample> {
+        self.last.clone()
+    }
+
+    /// Starts a run from assembled points.
+    pub fn new(a: &assemble::Assembled, grid_frames: bool) -> Self {
+        let mut state = State {
+            particles: a.particles.clone(),
+            ..Default::default()
+        };
+        let solver = Solver::new(&a.setup, &mut state);
+        Mpm {
+            setup: a.setup.clone(),
+            state,
+            solver,
+            dt: a.dt,
+            grid_frames,
+            last: None,
+        }
+    }
+}
+
+/// Unwraps each body's rotation against the previous sample.
+fn to_sample(d: &Diagnostics, t: f64, prev: Option<&Sample>) -> Sample {
+    let bodies = d
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(b, x)| {
+            let angle = match prev {
+                Some(p) => {
+                    let last = p.bodies[b].angle;
+                    let mut da = x.angle - last.rem_euclid(std::f64::consts::TAU);
+                    da -= (da / std::f64::consts::TAU).round() * std::f64::consts::TAU;
+                    last + da
+                }
+                None => x.angle,
+            };
+            BodySample {
+                centre: x.centre,
+                velocity: x.velocity,
+                omega: x.omega,
+                angle,
+            }
+        })
+        .collect();
+    Sample {
+        t,
+        energy: d.total(),
+        momentum: d.momentum,
+        bodies,
+    }
+}
+
+impl Simulation for Mpm {
+    type Sample = MpmSample;
+
+    fn clock(&self) -> Clock {
+        Clock {
+            time: self.state.time,
+            step: self.state.step,
+        }
+    }
+
+    fn advance(&mut self) -> Result<(), String> {
+        step(&self.setup, &mut self.state, &mut self.solver, self.dt).map_err(|e| e.to_string())
+    }
+
+    fn sample(&mut self) -> MpmSample {
+        let d = measure(
+            &self.setup,
+            &self.state.particles,
+            &self.solver.layout().bodies,
+        );
+        let sample = to_sample(&d, self.state.time, self.last.as_ref().map(|s| &s.sample));
+        let s = MpmSample {
+            diagnostics: d,
+            sample,
+        };
+        self.last = Some(s.clone());
+        s
+    }
+
+    fn unstable(&self, s: &MpmSample) -> Option<String> {
+        let d = &s.diagnostics;
+        if !d.finite {
+            return Some("a position, velocity or stress is not finite (NaN or infinity)".into());
+        }
+        let setup = &self.setup;
+        let c = setup
+            .bodies
+            .iter()
+            .filter(|b| b.motion == Motion::Free)
+            .map(|b| setup.materials[b.material].wave_speed())
+            .fold(0.0, f64::max);
+        let cfl = (c + d.max_speed) * self.dt / setup.grid.h;
+        (cfl > 1.0).then(|| {
+            format!(
+                "CFL breach: (c + |v|max)·Δt/h = {cfl:.3} > 1 with |v|max = {:.4e} m/s; lower run.dt or run.safety",
+                d.max_speed
+            )
+        })
+    }
+
+    fn particles(&self) -> ParticleView<'_> {
+        let p = &self.state.particles;
+        ParticleView {
+            id: &p.id,
+            pos: &p.pos,
+            vel: &p.vel,
+            radius: Cow::Owned(
+                (0..p.len())
+                    .map(|i| (p.volume(i) / std::f64::consts::PI).sqrt())
+                    .collect(),
+            ),
+            mass: Cow::Borrowed(&p.mass),
+        }
+    }
+
+    fn state_hash(&self) -> u64 {
+        grains_mpm::diagnostics::state_hash(&self.state.particles)
+    }
+}

@@ -1,0 +1,224 @@
+//! Running a scenario as the command line does, from any Rust program: parse,
+//! validate, assemble, run with every observer, write the outputs and the summary.
+//!
+//! ```no_run
+//! use grains_sim::{run, RunOptions, Source};
+//! let src = Source::read("examples/dem/head_on.toml".as_ref()).unwrap();
+//! let done = run::run(&src, RunOptions::new("runs/head_on")).unwrap();
+//! assert!(done.checks.iter().all(|c| c.pass));
+//! ```
+
+use crate::driver::{self, Outcome, Progress, Silent, Simulation, Status};
+use crate::scenario::{self, Scenario};
+use crate::source::Source;
+use crate::summary::Summary;
+use crate::{blast, dem, mpm};
+use grains_core::atomic::write_atomic;
+use grains_core::checks::Check;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
+/// How a run is driven and where it writes.
+pub struct RunOptions<'a> {
+    /// Output directory.
+    pub out: PathBuf,
+    /// Worker threads in use (reported in the summary).
+    pub threads: usize,
+    /// Stop with a checkpoint once this step is reached (DEM).
+    pub stop_at_step: Option<u64>,
+    /// Set by a signal handler to stop (with a checkpoint where the engine has one).
+    pub interrupt: Option<&'a AtomicBool>,
+    /// Where progress goes.
+    pub progress: Box<dyn Progress + 'a>,
+}
+
+impl RunOptions<'_> {
+    /// Writes into `out`, on the current thread pool, silently.
+    pub fn new(out: impl Into<PathBuf>) -> Self {
+        RunOptions {
+            out: out.into(),
+            threads: rayon::current_num_threads(),
+            stop_at_step: None,
+            interrupt: None,
+            progress: Box::new(Silent),
+        }
+    }
+}
+
+/// Why a run could not be done.
+#[derive(Debug)]
+pub enum RunError {
+    /// The input was refused (nothing was written): one line naming the key, the value
+    /// and what is allowed.
+    Input(String),
+    /// Writing the outputs failed.
+    Output(anyhow::Error),
+}
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RunError::Input(m) => write!(f, "{m}"),
+            RunError::Output(e) => write!(f, "{e:#}"),
+        }
+    }
+}
+
+impl std::error::Error for RunError {}
+
+impl From<anyhow::Error> for RunError {
+    fn from(e: anyhow::Error) -> Self {
+        RunError::Output(e)
+    }
+}
+
+/// What a run left behind.
+#[derive(Clone, Debug)]
+pub struct Finished {
+    /// How it ended (`summary.status`).
+    pub status: Status,
+    /// Its checks with their verdicts.
+    pub checks: Vec<Check>,
+    /// The summary as written.
+    pub summary: Summary,
+    /// Where the outputs are.
+    pub out: PathBuf,
+}
+
+/// Runs the scenario `src` with `opts`: every output goes into `opts.out`.
+pub fn run(src: &Source, opts: RunOptions) -> Result<Finished, RunError> {
+    match scenario::parse(src).map_err(RunError::Input)? {
+        Scenario::Dem(s) => dem::run::run(&s, src, opts, None),
+        Scenario::Mpm(s) => mpm::run::run(&s, src, opts),
+        Scenario::FemDem(s) => blast::run::run(&s, src, opts),
+    }
+}
+
+/// Continues the run in `dir` from its checkpoint.
+pub fn resume(dir: &Path, mut opts: RunOptions) -> Result<Finished, RunError> {
+    let src = Source::read(&dir.join("scenario.toml")).map_err(|e| {
+        RunError::Input(format!(
+            "{e} (is {} a grains run directory?)",
+            dir.display()
+        ))
+    })?;
+    if let Ok(text) = std::fs::read_to_string(dir.join("summary.json")) {
+        let status = serde_json::from_str::<serde_json::Value>(&text)
+            .ok()
+            .and_then(|v| v["status"].as_str().map(String::from));
+        if let Some(s @ ("completed" | "at_rest")) = status.as_deref() {
+            return Err(RunError::Input(format!(
+                "{}: this run already finished (summary.status = \"{s}\"); there is nothing to resume. Run it again with `grains run` to start over",
+                dir.display()
+            )));
+        }
+    }
+    opts.out = dir.to_path_buf();
+    match scenario::parse(&src).map_err(RunError::Input)? {
+        Scenario::Dem(s) => {
+            let saved = dem::run::load_checkpoint(&s, &src, dir)?;
+            dem::run::run(&s, &src, opts, Some(saved))
+        }
+        other => Err(RunError::Input(format!(
+            "{}: resume is supported for engine = \"dem\" runs, this one is engine = \"{}\"",
+            dir.display(),
+            other.engine()
+        ))),
+    }
+}
+
+/// Prepares a fresh output directory: creates it, copies the scenario into it and
+/// removes what an earlier run there left that this one would not overwrite.
+pub fn fresh_out(out: &Path, text: &str) -> anyhow::Result<()> {
+    use anyhow::Context;
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("cannot create output directory {}", out.display()))?;
+    write_atomic(&out.join("scenario.toml"), text.as_bytes())?;
+    let stale = out.join(crate::checkpoint::FILE);
+    if stale.exists() {
+        std::fs::remove_file(&stale)
+            .with_context(|| format!("cannot remove the stale {}", stale.display()))?;
+    }
+    let plots = out.join("plots");
+    if plots.exists() {
+        std::fs::remove_dir_all(&plots)
+            .with_context(|| format!("cannot clear {}", plots.display()))?;
+    }
+    Ok(())
+}
+
+/// The parts of a summary every engine fills the same way.
+pub struct Costs {
+    /// Time step (s).
+    pub dt: f64,
+    /// Largest stable step (s).
+    pub dt_critical: f64,
+    /// Threads in use.
+    pub threads: usize,
+    /// Frames written.
+    pub frames: usize,
+}
+
+/// The summary of an outcome.
+pub fn summary<S: Simulation>(
+    name: &str,
+    engine: &'static str,
+    sim: &S,
+    o: &Outcome,
+    costs: Costs,
+    counts: serde_json::Map<String, serde_json::Value>,
+) -> Summary {
+    let n = sim.particles().pos.len();
+    Summary {
+        name: name.to_string(),
+        engine,
+        status: o.status.name().into(),
+        message: match &o.status {
+            Status::Unstable(m) => Some(m.clone()),
+            _ => None,
+        },
+        particles: n,
+        steps: o.clock.step,
+        time: o.clock.time,
+        dt: costs.dt,
+        dt_critical: costs.dt_critical,
+        threads: costs.threads,
+        wall_time_s: o.wall_time_s,
+        particle_steps_per_s: n as f64 * o.steps_run as f64 / o.wall_time_s.max(1e-12),
+        frames: costs.frames,
+        state_hash: format!("{:016x}", sim.state_hash()),
+        counts,
+        figures: o.report.figures.clone(),
+        checks: o.report.checks.clone(),
+    }
+}
+
+/// Writes the summary and returns what the caller needs.
+pub fn finish(summary: Summary, status: Status, out: &Path) -> Result<Finished, RunError> {
+    summary.write(&out.join("summary.json"))?;
+    Ok(Finished {
+        checks: summary.checks.clone(),
+        status,
+        summary,
+        out: out.to_path_buf(),
+    })
+}
+
+/// Runs the driver with the options' controls.
+pub fn drive<S: Simulation>(
+    sim: &mut S,
+    observers: &mut [&mut dyn driver::Observer<S>],
+    plan: &driver::Plan,
+    opts: &mut RunOptions,
+    text: &str,
+    counters: driver::Counters,
+) -> anyhow::Result<Outcome> {
+    let mut control = driver::Control {
+        stop_at_step: opts.stop_at_step,
+        interrupt: opts.interrupt,
+        progress: opts.progress.as_mut(),
+        checkpoint_dir: Some(opts.out.clone()),
+        scenario_text: text,
+    };
+    driver::run(sim, observers, plan, &mut control, counters)
+}
