@@ -34,7 +34,37 @@ pub enum Region {
     },
 }
 
+/// A circle as a closed poly-line of 256 points.
+fn circle(centre: DVec2, r: f64) -> grains_core::plot::Outline {
+    grains_core::plot::Outline {
+        points: (0..256)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / 256.0;
+                centre + r * DVec2::new(t.cos(), t.sin())
+            })
+            .collect(),
+        closed: true,
+    }
+}
+
 impl Region {
+    /// The region's boundaries, to draw over a map of its particles (a periodic side
+    /// is drawn too, as the cell's edge).
+    pub fn outlines(&self) -> Vec<grains_core::plot::Outline> {
+        match *self {
+            Region::Annulus {
+                centre,
+                r_in,
+                r_out,
+            } => vec![circle(centre, r_in), circle(centre, r_out)],
+            Region::Disk { centre, radius } => vec![circle(centre, radius)],
+            Region::Rectangle { lo, hi, .. } => vec![grains_core::plot::Outline {
+                points: vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)],
+                closed: true,
+            }],
+        }
+    }
+
     /// Signed distance from `p` to the nearest boundary: positive inside, negative outside.
     /// Periodic sides are not boundaries.
     pub fn boundary_distance(&self, p: DVec2) -> f64 {

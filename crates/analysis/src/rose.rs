@@ -26,9 +26,10 @@ pub fn rose_png(path: &Path, title: &str, density: &[f64]) -> Result<(), RoseErr
 
 fn draw(path: &Path, title: &str, density: &[f64]) -> Result<(), Box<dyn std::error::Error>> {
     use std::f64::consts::TAU;
+    grains_core::plot::register_font();
     let root = BitMapBackend::new(path, (900, 960)).into_drawing_area();
     root.fill(&WHITE)?;
-    let root = root.titled(title, ("sans-serif", 28))?;
+    let root = root.titled(title, (grains_core::plot::FONT, 28))?;
     let iso = 1.0 / TAU;
     let peak = density
         .iter()
@@ -83,7 +84,7 @@ fn draw(path: &Path, title: &str, density: &[f64]) -> Result<(), Box<dyn std::er
     chart.draw_series([Text::new(
         format!("dashed: isotropic 1/2π; outer edge {:.3} /rad", peak),
         (-0.98 * peak, -0.95 * peak),
-        ("sans-serif", 20),
+        (grains_core::plot::FONT, 20),
     )])?;
     root.present()?;
     Ok(())

@@ -3,7 +3,7 @@
 
 use grains_analysis::sample::{Sample, SampleKind};
 use grains_analysis::{sizes, Analysis};
-use grains_core::plot::{scatter_disks_png, LinePlot, Series};
+use grains_core::plot::{LinePlot, ParticleMap, Series};
 use grains_core::vtk::{DataArray, PolyData};
 use serde_json::{json, Map, Value};
 use std::path::Path;
@@ -126,14 +126,15 @@ pub fn write_outputs(out: &Path, s: &Sample, a: &Analysis, stem: &str) -> anyhow
     ];
     poly.write(&frames.join(format!("{stem}.vtp")))?;
 
-    scatter_disks_png(
-        &plots.join("psi6_map.png"),
-        "|psi6| per particle (6 nearest neighbours)",
-        &s.pos,
-        &s.radius,
-        &psi_abs,
-        "|psi6|",
-    )?;
+    ParticleMap {
+        title: "Local bond-orientational order |ψ6| per particle (6 nearest neighbours)",
+        centres: &s.pos,
+        radii: &s.radius,
+        values: &psi_abs,
+        value_label: "|ψ6| (dimensionless)",
+        outlines: &a.region.outlines(),
+    }
+    .write_png(&plots.join("psi6_map.png"))?;
     let interior: Vec<f64> = psi_abs
         .iter()
         .zip(&a.interior)

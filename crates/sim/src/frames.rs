@@ -78,3 +78,27 @@ impl<S: Framed> Observer<S> for FrameRecorder {
         Ok(())
     }
 }
+
+/// A simulation that can draw its particles as a PNG map.
+pub trait Mapped: Simulation {
+    /// The map's file name at the present time.
+    fn map_name(&self) -> String;
+    /// Draws the map into `path`.
+    fn draw_map(&self, path: &Path) -> anyhow::Result<()>;
+}
+
+/// PNG maps of the particles at the plan's snapshot times (with their frames).
+pub struct Snapshots {
+    /// Where the maps go (the run's `plots/`).
+    pub dir: PathBuf,
+}
+
+impl<S: Mapped> Observer<S> for Snapshots {
+    fn on_frame(&mut self, sim: &S, kind: FrameKind) -> anyhow::Result<()> {
+        if kind == FrameKind::Snapshot {
+            std::fs::create_dir_all(&self.dir)?;
+            sim.draw_map(&self.dir.join(sim.map_name()))?;
+        }
+        Ok(())
+    }
+}

@@ -16,19 +16,116 @@ const SIZE: (u32, u32) = (1200, 1000);
 /// Width reserved at the right for the colour bar.
 const BAR_AREA: u32 = 190;
 const MARGIN: u32 = 20;
-const X_LABELS: u32 = 50;
-const Y_LABELS: u32 = 100;
+const X_LABELS: u32 = 70;
+const Y_LABELS: u32 = 120;
 /// Colour-bar resolution; more bands than visible colour steps.
 const BAR_BANDS: usize = 128;
 
-/// Draws disks (`centres`, `radii`) filled with the colour of `values` on a
-/// viridis-like scale, with equal x/y scaling and a colour bar labelled
-/// `value_label`. Written to `path` (PNG) atomically.
-///
-/// Disks smaller than a pixel are drawn as single pixels so that dense,
-/// fine packings stay visible and fast (~100k disks). Disks with a
-/// non-finite centre or radius are skipped; a non-finite value is drawn
-/// grey.
+/// Geometry drawn over a particle map: a wall, a plate, the edge of a charge.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Outline {
+    /// Points of the poly-line (m).
+    pub points: Vec<DVec2>,
+    /// Join the last point back to the first.
+    pub closed: bool,
+}
+
+/// A map of disks (particles, material points) at their true size, coloured by a
+/// value, with the geometry they live in drawn over them.
+#[derive(Clone, Debug)]
+pub struct ParticleMap<'a> {
+    /// Caption; say what is shown and when (with the time's unit).
+    pub title: &'a str,
+    /// Disk centres (m).
+    pub centres: &'a [DVec2],
+    /// Disk radii (m).
+    pub radii: &'a [f64],
+    /// The value each disk is coloured by.
+    pub values: &'a [f64],
+    /// The colour bar's label, with the value's unit.
+    pub value_label: &'a str,
+    /// Walls, plates, a charge's edge: drawn as black lines.
+    pub outlines: &'a [Outline],
+}
+
+/// A length unit for the axes: its name and its size in metres, chosen so that the
+/// tick labels of an extent `span` (m) read as plain numbers.
+pub fn length_unit(span: f64) -> (&'static str, f64) {
+    if span >= 0.5 || !span.is_finite() {
+        ("m", 1.0)
+    } else if span >= 5e-4 {
+        ("mm", 1e-3)
+    } else {
+        ("µm", 1e-6)
+    }
+}
+
+impl ParticleMap<'_> {
+    /// Draws the map with equal x/y scaling, axes labelled in a fitting length unit and
+    /// a colour bar (viridis-like), written to `path` (PNG) atomically.
+    ///
+    /// Disks smaller than a pixel are drawn as single pixels so that dense, fine
+    /// packings stay visible and fast (~100k disks). Disks with a non-finite centre or
+    /// radius are skipped; a non-finite value is drawn grey. The axes span the disks;
+    /// outlines are clipped to them.
+    pub fn write_png(&self, path: &Path) -> Result<(), PlotError> {
+        let n = self.centres.len();
+        if self.radii.len() != n || self.values.len() != n {
+            return Err(PlotError::InvalidInput(format!(
+                "{} centres, {} radii and {} values",
+                n,
+                self.radii.len(),
+                self.values.len()
+            )));
+        }
+        let disks: Vec<(DVec2, f64, f64)> = self
+            .centres
+            .iter()
+            .zip(self.radii)
+            .zip(self.values)
+            .filter(|((c, r), _)| plottable(c.x) && plottable(c.y) && plottable(**r))
+            .map(|((c, r), v)| (*c, r.abs(), *v))
+            .collect();
+        let span = extent(disks.iter().flat_map(|d| [d.0.x, d.0.y])).map_or(1.0, |(a, b)| b - a);
+        let (unit, metres) = length_unit(span);
+        // Everything in display units from here on.
+        let disks: Vec<(DVec2, f64, f64)> = disks
+            .into_iter()
+            .map(|(c, r, v)| (c / metres, r / metres, v))
+            .collect();
+        let outlines: Vec<Vec<(f64, f64)>> = self
+            .outlines
+            .iter()
+            .map(|o| {
+                let mut pts: Vec<(f64, f64)> = o
+                    .points
+                    .iter()
+                    .map(|p| (p.x / metres, p.y / metres))
+                    .collect();
+                if o.closed && !pts.is_empty() {
+                    pts.push(pts[0]);
+                }
+                pts
+            })
+            .collect();
+        write_atomic_via_path(path, |tmp| {
+            super::register_font();
+            let root = BitMapBackend::new(tmp, SIZE).into_drawing_area();
+            root.fill(&WHITE)?;
+            let root = root.titled(self.title, (FONT, 28))?;
+            let (w, _) = root.dim_in_pixel();
+            let (map, bar) = root.split_horizontally(w.saturating_sub(BAR_AREA));
+            let v_range = axis_range(extent(disks.iter().map(|d| d.2)), 0.0);
+            draw_map(&map, &disks, &outlines, unit, v_range)?;
+            draw_bar(&bar, v_range, self.value_label)?;
+            root.present()?;
+            Ok(())
+        })
+    }
+}
+
+/// Draws disks (`centres`, `radii`) filled with the colour of `values`, with no
+/// outlines: a [`ParticleMap`] in one call.
 pub fn scatter_disks_png(
     path: &Path,
     title: &str,
@@ -37,44 +134,58 @@ pub fn scatter_disks_png(
     values: &[f64],
     value_label: &str,
 ) -> Result<(), PlotError> {
-    if radii.len() != centres.len() || values.len() != centres.len() {
-        return Err(PlotError::InvalidInput(format!(
-            "{} centres, {} radii and {} values",
-            centres.len(),
-            radii.len(),
-            values.len()
-        )));
+    ParticleMap {
+        title,
+        centres,
+        radii,
+        values,
+        value_label,
+        outlines: &[],
     }
-    let disks: Vec<(DVec2, f64, f64)> = centres
-        .iter()
-        .zip(radii)
-        .zip(values)
-        .filter(|((c, r), _)| plottable(c.x) && plottable(c.y) && plottable(**r))
-        .map(|((c, r), v)| (*c, r.abs(), *v))
-        .collect();
-    write_atomic_via_path(path, |tmp| {
-        let root = BitMapBackend::new(tmp, SIZE).into_drawing_area();
-        root.fill(&WHITE)?;
-        let root = root.titled(title, (FONT, 30))?;
-        let (w, _) = root.dim_in_pixel();
-        let (map, bar) = root.split_horizontally(w.saturating_sub(BAR_AREA));
-        let v_range = axis_range(extent(disks.iter().map(|d| d.2)), 0.0);
-        draw_map(&map, &disks, v_range)?;
-        draw_bar(&bar, v_range, value_label)?;
-        root.present()?;
-        Ok(())
-    })
+    .write_png(path)
 }
 
 /// Axis ranges covering all disks, widened along the shorter direction so
 /// one data unit is the same number of pixels on both axes.
-fn equal_ranges(disks: &[(DVec2, f64, f64)], plot_px: (u32, u32)) -> ((f64, f64), (f64, f64)) {
+/// The outline points that lie within twice the disks' span of them are covered too: a
+/// box's walls are in view, a 'floor' a kilometre long is not.
+fn equal_ranges(
+    disks: &[(DVec2, f64, f64)],
+    outlines: &[Vec<(f64, f64)>],
+    plot_px: (u32, u32),
+) -> ((f64, f64), (f64, f64)) {
+    let ex = extent(disks.iter().flat_map(|d| [d.0.x - d.1, d.0.x + d.1]));
+    let ey = extent(disks.iter().flat_map(|d| [d.0.y - d.1, d.0.y + d.1]));
+    let near: Vec<(f64, f64)> = match (ex, ey) {
+        (Some((a, b)), Some((c, d))) => {
+            let reach = 2.0 * (b - a).max(d - c);
+            outlines
+                .iter()
+                .flatten()
+                .copied()
+                .filter(|p| {
+                    p.0 > a - reach && p.0 < b + reach && p.1 > c - reach && p.1 < d + reach
+                })
+                .collect()
+        }
+        _ => Vec::new(),
+    };
     let (x0, x1) = axis_range(
-        extent(disks.iter().flat_map(|d| [d.0.x - d.1, d.0.x + d.1])),
+        extent(
+            disks
+                .iter()
+                .flat_map(|d| [d.0.x - d.1, d.0.x + d.1])
+                .chain(near.iter().map(|p| p.0)),
+        ),
         0.02,
     );
     let (y0, y1) = axis_range(
-        extent(disks.iter().flat_map(|d| [d.0.y - d.1, d.0.y + d.1])),
+        extent(
+            disks
+                .iter()
+                .flat_map(|d| [d.0.y - d.1, d.0.y + d.1])
+                .chain(near.iter().map(|p| p.1)),
+        ),
         0.02,
     );
     let (pw, ph) = (plot_px.0.max(1) as f64, plot_px.1.max(1) as f64);
@@ -88,6 +199,8 @@ fn equal_ranges(disks: &[(DVec2, f64, f64)], plot_px: (u32, u32)) -> ((f64, f64)
 fn draw_map(
     area: &DrawingArea<BitMapBackend, Shift>,
     disks: &[(DVec2, f64, f64)],
+    outlines: &[Vec<(f64, f64)>],
+    unit: &str,
     (v0, v1): (f64, f64),
 ) -> Result<(), PlotError> {
     let (w, h) = area.dim_in_pixel();
@@ -95,7 +208,7 @@ fn draw_map(
         w.saturating_sub(2 * MARGIN + Y_LABELS),
         h.saturating_sub(2 * MARGIN + X_LABELS),
     );
-    let ((x0, x1), (y0, y1)) = equal_ranges(disks, plot_px);
+    let ((x0, x1), (y0, y1)) = equal_ranges(disks, outlines, plot_px);
     let mut chart = ChartBuilder::on(area)
         .margin(MARGIN)
         .x_label_area_size(X_LABELS)
@@ -106,9 +219,12 @@ fn draw_map(
     chart
         .configure_mesh()
         .disable_mesh()
+        .x_desc(format!("x ({unit})"))
+        .y_desc(format!("y ({unit})"))
         .x_label_formatter(&fx)
         .y_label_formatter(&fy)
         .label_style((FONT, 16))
+        .axis_desc_style((FONT, 20))
         .draw()?;
 
     // Pixels per data unit, measured on the chart actually built, so disk
@@ -127,7 +243,52 @@ fn draw_map(
             .iter()
             .map(|&&(c, _, v)| Pixel::new((c.x, c.y), colour(v))),
     )?;
+    // Plotters pins points outside the range to its edge, which would draw a distant
+    // wall along the frame: clip each segment to the range first.
+    let view = ((x0, y0), (x1, y1));
+    for o in outlines {
+        for w in o.windows(2) {
+            if let Some((a, b)) = clip(w[0], w[1], view) {
+                chart.draw_series(LineSeries::new([a, b], BLACK.stroke_width(3)))?;
+            }
+        }
+    }
     Ok(())
+}
+
+/// The part of the segment a–b inside the box `view` (Liang–Barsky), if any.
+fn clip(
+    a: (f64, f64),
+    b: (f64, f64),
+    ((x0, y0), (x1, y1)): ((f64, f64), (f64, f64)),
+) -> Option<((f64, f64), (f64, f64))> {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-dx, a.0 - x0),
+        (dx, x1 - a.0),
+        (-dy, a.1 - y0),
+        (dy, y1 - a.1),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    (t0 <= t1).then(|| {
+        (
+            (a.0 + t0 * dx, a.1 + t0 * dy),
+            (a.0 + t1 * dx, a.1 + t1 * dy),
+        )
+    })
 }
 
 fn draw_bar(
@@ -143,6 +304,13 @@ fn draw_bar(
         .right_y_label_area_size(Y_LABELS + 20)
         .build_cartesian_2d(0.0..1.0, v0..v1)?;
     let fy = |v: &f64| format_linear(*v, v0, v1);
+    let dv = (v1 - v0) / BAR_BANDS as f64;
+    chart.draw_series((0..BAR_BANDS).map(|k| {
+        let lo = v0 + k as f64 * dv;
+        let t = (k as f64 + 0.5) / BAR_BANDS as f64;
+        Rectangle::new([(0.0, lo), (0.4, lo + dv)], viridis(t).filled())
+    }))?;
+    // Labels last, so that no band covers them.
     chart
         .configure_mesh()
         .disable_mesh()
@@ -152,12 +320,6 @@ fn draw_bar(
         .label_style((FONT, 16))
         .axis_desc_style((FONT, 20))
         .draw()?;
-    let dv = (v1 - v0) / BAR_BANDS as f64;
-    chart.draw_series((0..BAR_BANDS).map(|k| {
-        let lo = v0 + k as f64 * dv;
-        let t = (k as f64 + 0.5) / BAR_BANDS as f64;
-        Rectangle::new([(0.0, lo), (1.0, lo + dv)], viridis(t).filled())
-    }))?;
     Ok(())
 }
 
@@ -190,9 +352,23 @@ mod tests {
     }
 
     #[test]
+    fn segments_are_clipped_to_the_view() {
+        let view = ((0.0, 0.0), (1.0, 1.0));
+        assert_eq!(
+            clip((-1.0, 0.5), (2.0, 0.5), view),
+            Some(((0.0, 0.5), (1.0, 0.5)))
+        );
+        assert_eq!(clip((0.0, -1.0), (1.0, -1.0), view), None);
+        assert_eq!(
+            clip((0.2, 0.2), (0.8, 0.8), view),
+            Some(((0.2, 0.2), (0.8, 0.8)))
+        );
+    }
+
+    #[test]
     fn equal_scaling() {
         let disks = [(DVec2::ZERO, 1.0, 0.0), (DVec2::new(10.0, 0.0), 1.0, 0.0)];
-        let ((x0, x1), (y0, y1)) = equal_ranges(&disks, (800, 400));
+        let ((x0, x1), (y0, y1)) = equal_ranges(&disks, &[], (800, 400));
         let ux = (x1 - x0) / 800.0;
         let uy = (y1 - y0) / 400.0;
         assert!((ux - uy).abs() < 1e-12 * ux);

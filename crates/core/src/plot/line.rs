@@ -60,6 +60,7 @@ impl LinePlot<'_> {
         let segments: Vec<Vec<Vec<(f64, f64)>>> =
             self.series.iter().map(|s| self.segments(s)).collect();
         write_atomic_via_path(path, |tmp| {
+            super::register_font();
             let root = BitMapBackend::new(tmp, SIZE).into_drawing_area();
             self.draw(&root, &segments)?;
             root.present()?;
@@ -111,6 +112,11 @@ impl LinePlot<'_> {
             _ => axis_range(y_extent, 0.05),
         };
 
+        let y_desc = if self.log_y {
+            format!("{} (log scale)", self.y_label)
+        } else {
+            self.y_label.to_string()
+        };
         let mut chart = ChartBuilder::on(root)
             .caption(self.title, (FONT, 30))
             .margin(20)
@@ -130,7 +136,7 @@ impl LinePlot<'_> {
         chart
             .configure_mesh()
             .x_desc(self.x_label)
-            .y_desc(self.y_label)
+            .y_desc(y_desc)
             .x_label_formatter(&fx)
             .y_label_formatter(&fy)
             .label_style((FONT, 18))
@@ -139,8 +145,9 @@ impl LinePlot<'_> {
             .draw()?;
 
         let mut any_label = false;
+        let n = self.series.len();
         for (i, (s, segs)) in self.series.iter().zip(segments).enumerate() {
-            let color = palette(i);
+            let color = palette(i, n);
             if self.points {
                 let markers = segs
                     .iter()

@@ -11,7 +11,7 @@ mod line;
 mod ticks;
 
 pub use colormap::viridis;
-pub use disks::scatter_disks_png;
+pub use disks::{length_unit, scatter_disks_png, Outline, ParticleMap};
 pub use line::{LinePlot, Series};
 
 use plotters::prelude::*;
@@ -36,9 +36,25 @@ impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for PlotE
     }
 }
 
-/// Font family for all text; resolved through fontconfig, so it works with
-/// whatever sans-serif font the system has.
-const FONT: &str = "sans-serif";
+/// Font family for all text: DejaVu Sans, compiled into the binary, so plots need no
+/// system fonts or font libraries (a bare HPC node draws the same PNGs).
+pub const FONT: &str = "sans-serif";
+
+/// The font's bytes (DejaVu Sans 2.37; its licence is `fonts/DejaVuSans-LICENSE.txt`).
+const FONT_BYTES: &[u8] = include_bytes!("../../fonts/DejaVuSans.ttf");
+
+/// Registers the compiled-in font under [`FONT`] (once per process); every plot calls
+/// it before drawing text.
+pub fn register_font() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        if plotters::style::register_font(FONT, FontStyle::Normal, FONT_BYTES).is_err() {
+            // The bytes are ours and tested; a failure leaves plots without text rather
+            // than taking a run down.
+            eprintln!("grains: the compiled-in plot font could not be loaded");
+        }
+    });
+}
 
 /// Distinct, colour-blind-friendly series colours (Okabe–Ito order, black
 /// last), cycled if there are more series.
@@ -53,8 +69,52 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(0, 0, 0),
 ];
 
-fn palette(i: usize) -> RGBColor {
-    PALETTE[i % PALETTE.len()]
+/// The colour of series `i` of `n`: the palette for up to 8 series, else `n` hues
+/// evenly around the colour wheel at alternating lightness, so no two series share a
+/// colour however many there are.
+/// A time as people read it on a plot: seconds, milliseconds or microseconds with
+/// four significant digits (`t = 40.00 µs`).
+pub fn time_label(t: f64) -> String {
+    let a = t.abs();
+    let (v, unit) = if a == 0.0 || !a.is_finite() {
+        return format!("{t} s");
+    } else if a >= 1.0 {
+        (t, "s")
+    } else if a >= 1e-3 {
+        (t * 1e3, "ms")
+    } else {
+        (t * 1e6, "µs")
+    };
+    let decimals = (3 - v.abs().log10().floor() as i32).max(0) as usize;
+    format!("{v:.decimals$} {unit}")
+}
+
+fn palette(i: usize, n: usize) -> RGBColor {
+    if n <= PALETTE.len() {
+        return PALETTE[i];
+    }
+    let hue = i as f64 / n as f64;
+    let light = if i % 2 == 0 { 0.38 } else { 0.55 };
+    let (r, g, b) = hsl(hue, 0.75, light);
+    RGBColor(r, g, b)
+}
+
+/// HSL (all in [0, 1]) to 8-bit RGB.
+fn hsl(h: f64, s: f64, l: f64) -> (u8, u8, u8) {
+    let c = (1.0 - (2.0 * l - 1.0).abs()) * s;
+    let hp = h * 6.0;
+    let x = c * (1.0 - (hp % 2.0 - 1.0).abs());
+    let (r, g, b) = match hp as u32 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    let m = l - c / 2.0;
+    let to = |v: f64| ((v + m) * 255.0).round().clamp(0.0, 255.0) as u8;
+    (to(r), to(g), to(b))
 }
 
 #[cfg(test)]
@@ -69,11 +129,20 @@ mod tests {
     use super::*;
 
     #[test]
-    fn palette_cycles_and_is_distinct() {
-        assert_eq!(palette(0), palette(8));
-        for i in 0..8 {
-            for j in 0..i {
-                assert_ne!(palette(i), palette(j));
+    fn times_read_in_their_unit() {
+        assert_eq!(time_label(0.7), "700.0 ms");
+        assert_eq!(time_label(4.0005e-5), "40.00 µs");
+        assert_eq!(time_label(14.0), "14.00 s");
+        assert_eq!(time_label(0.0), "0 s");
+    }
+
+    #[test]
+    fn no_two_series_share_a_colour() {
+        for n in [1, 5, 8, 9, 12, 30] {
+            for i in 0..n {
+                for j in 0..i {
+                    assert_ne!(palette(i, n), palette(j, n), "{i} and {j} of {n}");
+                }
             }
         }
     }

@@ -3,14 +3,13 @@
 use super::assemble::assemble;
 use super::scenario::Scenario;
 use super::{plots, probes, Blast, BlastSample, CAPABILITIES};
-use crate::driver::{
-    discount, Counters, Every, FrameKind, Horizon, Observer, Plan, Report, Status,
-};
+use crate::driver::{discount, Counters, Every, Horizon, Observer, Plan, Report, Status};
 use crate::frames::FrameRecorder;
+use crate::frames::{Mapped, Snapshots};
 use crate::history::{HistoryRecorder, Recorded};
 use crate::run::{drive, finish, fresh_out, summary, Costs, Finished, RunError, RunOptions};
 use crate::source::Source;
-use grains_core::plot::scatter_disks_png;
+use grains_core::plot::{time_label, Outline, ParticleMap};
 use std::path::{Path, PathBuf};
 
 impl Recorded for Blast {
@@ -132,12 +131,15 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
     let mut snaps = Snapshots {
         dir: out.join("plots"),
     };
+    let mut last = FinalMap {
+        dir: out.join("plots"),
+    };
     std::fs::create_dir_all(&snaps.dir)
         .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", snaps.dir.display()))?;
     let plan = plan(s);
     let outcome = {
         let mut observers: Vec<&mut dyn Observer<Blast>> =
-            vec![&mut history, &mut frames, &mut snaps];
+            vec![&mut history, &mut frames, &mut snaps, &mut last];
         drive(
             &mut sim,
             &mut observers,
@@ -223,39 +225,53 @@ fn merge(
     report
 }
 
-/// PNG maps of the particles coloured by speed (xue-2019 Fig. 5a), at the snapshot
-/// times and at the end.
-struct Snapshots {
+/// The map of the particles at the end of a run that finished.
+struct FinalMap {
     dir: PathBuf,
 }
 
-impl Observer<Blast> for Snapshots {
-    fn on_frame(&mut self, sim: &Blast, kind: FrameKind) -> anyhow::Result<()> {
-        if let (Some(r), FrameKind::Snapshot) = (&sim.ring, kind) {
-            particle_map(&self.dir, sim.charge.time, &r.state)?;
-        }
-        Ok(())
-    }
-
+impl Observer<Blast> for FinalMap {
     fn on_end(&mut self, sim: &Blast, status: &Status, _report: &mut Report) -> anyhow::Result<()> {
-        if let (Some(r), true) = (&sim.ring, status.finished()) {
-            particle_map(&self.dir, sim.charge.time, &r.state)?;
+        if sim.ring.is_some() && status.finished() {
+            sim.draw_map(&self.dir.join(sim.map_name()))?;
         }
         Ok(())
     }
 }
 
-/// A PNG of the particles coloured by speed.
-fn particle_map(dir: &Path, t: f64, s: &grains_dem::State) -> anyhow::Result<()> {
-    let p = &s.particles;
-    let speed: Vec<f64> = p.vel.iter().map(|v| v.length()).collect();
-    scatter_disks_png(
-        &dir.join(format!("particles_{:07.2}us.png", t * 1e6)),
-        &format!("Particles at t = {:.2} µs, coloured by speed", t * 1e6),
-        &p.pos,
-        &p.radius,
-        &speed,
-        "speed (m/s)",
-    )?;
-    Ok(())
+impl Mapped for Blast {
+    fn map_name(&self) -> String {
+        format!("particles_{:07.2}us.png", self.charge.time * 1e6)
+    }
+
+    /// The particles coloured by speed, with the charge's edge (xue-2019 Fig. 5a).
+    fn draw_map(&self, path: &Path) -> anyhow::Result<()> {
+        let Some(r) = &self.ring else {
+            return Ok(());
+        };
+        let p = &r.state.particles;
+        let speed: Vec<f64> = p.vel.iter().map(|v| v.length()).collect();
+        let c = &self.charge;
+        let edge = Outline {
+            points: c
+                .boundary
+                .iter()
+                .map(|e| c.nodes.pos[e[0] as usize])
+                .collect(),
+            closed: true,
+        };
+        ParticleMap {
+            title: &format!(
+                "Particles at t = {}, coloured by speed; the charge's edge in black",
+                time_label(c.time)
+            ),
+            centres: &p.pos,
+            radii: &p.radius,
+            values: &speed,
+            value_label: "speed (m/s)",
+            outlines: &[edge],
+        }
+        .write_png(path)?;
+        Ok(())
+    }
 }

@@ -1,12 +1,14 @@
 //! PNG plots written at the end of a run from its history.
 
+use super::Dem;
+use crate::frames::Mapped;
 use grains_core::history::History;
-use grains_core::plot::{scatter_disks_png, LinePlot, Series};
+use grains_core::plot::{time_label, LinePlot, Outline, ParticleMap, Series};
 use grains_dem::{Setup, State};
 use std::path::Path;
 
 /// Writes `energies.png`, `kinetic_energy.png` (log scale), `contacts.png`, with walls
-/// `wall_forces.png`, and a map of the final particles coloured by speed.
+/// `wall_forces_x.png` and `wall_forces_y.png`, and a map of the final particles coloured by speed.
 pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir)?;
     let col = |name: &str| h.column(name).unwrap_or_default();
@@ -64,16 +66,7 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
     }
     .write_png(&dir.join("kinetic_energy.png"))?;
 
-    let p = &state.particles;
-    let speed: Vec<f64> = p.vel.iter().map(|v| v.length()).collect();
-    scatter_disks_png(
-        &dir.join("particles_final.png"),
-        &format!("Particles at t = {:.4e} s", state.time),
-        &p.pos,
-        &p.radius,
-        &speed,
-        "speed (m/s)",
-    )?;
+    particle_map(&dir.join("particles_final.png"), setup, state)?;
 
     let coordination = col("coordination");
     LinePlot {
@@ -90,22 +83,19 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
     }
     .write_png(&dir.join("contacts.png"))?;
 
-    if !setup.walls.is_empty() {
-        let data: Vec<(String, Vec<f64>)> = setup
+    for (c, axis) in [("fx", "x"), ("fy", "y")] {
+        if setup.walls.is_empty() {
+            break;
+        }
+        let data: Vec<(&str, Vec<f64>)> = setup
             .walls
             .iter()
-            .flat_map(|w| {
-                ["fx", "fy"].map(|c| {
-                    let key = format!("{}_{c}", w.name);
-                    let v = col(&key);
-                    (key, v)
-                })
-            })
+            .map(|w| (w.name.as_str(), col(&format!("{}_{c}", w.name))))
             .collect();
         LinePlot {
-            title: "Force of the particles on each wall",
+            title: &format!("Force of the particles on each wall, along {axis}"),
             x_label: "time (s)",
-            y_label: "force (N/m)",
+            y_label: &format!("force along {axis} per unit thickness (N/m)"),
             series: data
                 .iter()
                 .map(|(k, v)| Series {
@@ -117,7 +107,44 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
             log_y: false,
             points: false,
         }
-        .write_png(&dir.join("wall_forces.png"))?;
+        .write_png(&dir.join(format!("wall_forces_{axis}.png")))?;
     }
     Ok(())
+}
+
+/// The particles coloured by speed, with the walls drawn.
+pub fn particle_map(path: &Path, setup: &Setup, state: &State) -> anyhow::Result<()> {
+    let p = &state.particles;
+    let speed: Vec<f64> = p.vel.iter().map(|v| v.length()).collect();
+    let walls: Vec<Outline> = setup
+        .walls
+        .iter()
+        .map(|w| Outline {
+            points: w.shape.outline(),
+            closed: false,
+        })
+        .collect();
+    ParticleMap {
+        title: &format!(
+            "Particles at t = {}, coloured by speed",
+            time_label(state.time)
+        ),
+        centres: &p.pos,
+        radii: &p.radius,
+        values: &speed,
+        value_label: "speed (m/s)",
+        outlines: &walls,
+    }
+    .write_png(path)?;
+    Ok(())
+}
+
+impl Mapped for Dem {
+    fn map_name(&self) -> String {
+        format!("particles_{:.6e}s.png", self.state.time)
+    }
+
+    fn draw_map(&self, path: &Path) -> anyhow::Result<()> {
+        particle_map(path, &self.setup, &self.state)
+    }
 }

@@ -9,7 +9,7 @@ use super::scenario::Scenario;
 use super::{plots, Dem, CAPABILITIES};
 use crate::checkpoint::{self, Progress as Saved};
 use crate::driver::{restore_observers, Counters, Every, Horizon, Observer, Plan, Report, Status};
-use crate::frames::FrameRecorder;
+use crate::frames::{FrameRecorder, Snapshots};
 use crate::history::HistoryRecorder;
 use crate::run::{drive, finish, fresh_out, summary, Costs, Finished, RunError, RunOptions};
 use crate::source::Source;
@@ -115,7 +115,10 @@ pub fn run(
         RestDetector::new(&sim, ratio, hold)
     });
     let mut ends = Figures { scenario: s };
-    let mut observers: Vec<&mut dyn Observer<Dem>> = vec![&mut history, &mut frames];
+    let mut snaps = Snapshots {
+        dir: out.join("plots"),
+    };
+    let mut observers: Vec<&mut dyn Observer<Dem>> = vec![&mut history, &mut frames, &mut snaps];
     if let Some(r) = rest.as_mut() {
         observers.push(r);
     }

@@ -3,7 +3,7 @@
 
 use glam::DVec2;
 use grains_core::history::History;
-use grains_core::plot::{scatter_disks_png, LinePlot, Series};
+use grains_core::plot::{time_label, LinePlot, Outline, ParticleMap, Series};
 use grains_mpm::Setup;
 use std::path::Path;
 
@@ -104,16 +104,42 @@ pub fn write_all(
             &[("rotation", deg)],
         )?;
     }
+    let walls = walls(setup);
     for (file, s) in snapshots {
         let radii = vec![point_radius; s.pos.len()];
-        scatter_disks_png(
-            &dir.join(file),
-            &format!("Points at t = {:.4}", s.t),
-            &s.pos,
-            &radii,
-            &s.value,
-            "principal stress difference (Pa)",
-        )?;
+        ParticleMap {
+            title: &format!(
+                "Material points at t = {}, coloured by principal stress difference",
+                time_label(s.t)
+            ),
+            centres: &s.pos,
+            radii: &radii,
+            values: &s.value,
+            value_label: "principal stress difference σ1 − σ2 (Pa)",
+            outlines: &walls,
+        }
+        .write_png(&dir.join(file))?;
     }
     Ok(())
+}
+
+/// The grid edges that are walls, as lines.
+fn walls(setup: &Setup) -> Vec<Outline> {
+    let (lo, hi) = (setup.grid.lo, setup.grid.hi());
+    let corners = [
+        [DVec2::new(lo.x, lo.y), DVec2::new(lo.x, hi.y)],
+        [DVec2::new(hi.x, lo.y), DVec2::new(hi.x, hi.y)],
+        [DVec2::new(lo.x, lo.y), DVec2::new(hi.x, lo.y)],
+        [DVec2::new(lo.x, hi.y), DVec2::new(hi.x, hi.y)],
+    ];
+    setup
+        .walls
+        .iter()
+        .zip(corners)
+        .filter(|(w, _)| w.is_some())
+        .map(|(_, c)| Outline {
+            points: c.to_vec(),
+            closed: false,
+        })
+        .collect()
 }
