@@ -94,7 +94,7 @@ fn palette(i: usize, n: usize) -> RGBColor {
         return PALETTE[i];
     }
     let hue = i as f64 / n as f64;
-    let light = if i % 2 == 0 { 0.38 } else { 0.55 };
+    let light = if i.is_multiple_of(2) { 0.38 } else { 0.55 };
     let (r, g, b) = hsl(hue, 0.75, light);
     RGBColor(r, g, b)
 }
