@@ -64,15 +64,25 @@ impl Derived {
 
     /// The figures as aligned lines.
     pub fn text(&self) -> String {
+        let shown: Vec<(String, &String)> = self
+            .lines
+            .iter()
+            .filter_map(|l| Some((label(l.key), l.text.as_ref()?)))
+            .collect();
+        let width = shown
+            .iter()
+            .map(|(k, _)| k.chars().count())
+            .max()
+            .unwrap_or(0)
+            + 2;
         let mut s = String::new();
-        for l in &self.lines {
-            if let Some(t) = &l.text {
-                s.push_str(&format!("{:13}{t}\n", l.key.replace('_', " ")));
-            }
+        for (k, t) in shown {
+            s.push_str(&format!("{k:width$}{t}\n"));
         }
         for c in &self.checks {
             s.push_str(&format!(
-                "check        {} measured {:.4} expected {:.4} ± {:.0} %: {}\n",
+                "{:width$}{} measured {:.4} expected {:.4} ± {:.0} %: {}\n",
+                "check",
                 c.name,
                 c.measured,
                 c.expected,
@@ -81,7 +91,7 @@ impl Derived {
             ));
         }
         for w in &self.warnings {
-            s.push_str(&format!("warning      {w}\n"));
+            s.push_str(&format!("{:width$}{w}\n", "warning"));
         }
         s
     }
@@ -113,12 +123,24 @@ impl Derived {
             "wall_time_estimate_s",
             e.wall_time_s,
             format!(
-                "≈ {} on {} threads (at the speeds measured in BENCHMARKS.md)",
+                "≈ {} on {} threads (from the speeds in BENCHMARKS.md; within a factor 2)",
                 estimate::duration(e.wall_time_s),
                 e.threads
             ),
         ));
         self.warnings.extend(e.warning());
+    }
+}
+
+/// How a figure's key reads in the text form.
+fn label(key: &str) -> String {
+    match key {
+        "memory_bytes_estimate" => "memory".into(),
+        "wall_time_estimate_s" => "wall time".into(),
+        "fill_to_burster_ratio" => "F/B".into(),
+        "dt" | "dt_initial" => "time step".into(),
+        "steps_estimate" => "steps (typical)".into(),
+        k => k.replace('_', " "),
     }
 }
 

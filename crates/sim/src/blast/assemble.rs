@@ -139,6 +139,7 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, String> {
     for (key, v) in [
         ("run.dem_safety", s.run.dem_safety),
         ("run.coupling_safety", s.run.coupling_safety),
+        ("run.min_dt_ratio", s.run.min_dt_ratio),
     ] {
         if !(v > 0.0 && v <= 1.0) {
             return Err(err(key, shown(v), "must be in (0, 1]"));

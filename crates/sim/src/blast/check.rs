@@ -177,6 +177,7 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
     };
     let dt = dt_initial(s, &a);
     let steps = (s.run.duration / dt).ceil() as u64;
+    let steps_max = (s.run.duration / (s.run.min_dt_ratio * dt)).ceil() as u64 + 1;
     d.lines.extend([
         Line::new(
             "dt_initial",
@@ -192,6 +193,14 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
             "steps_estimate",
             steps,
             format!("≈ {steps} at the initial step"),
+        ),
+        Line::new(
+            "steps",
+            steps_max,
+            format!(
+                "at most {steps_max}: the run stops if its step falls below run.min_dt_ratio = {} of the initial one",
+                s.run.min_dt_ratio
+            ),
         ),
     ]);
     for c in &s.checks {

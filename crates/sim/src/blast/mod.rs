@@ -58,6 +58,9 @@ pub struct Blast {
     pub dt_particles: f64,
     /// Fraction of the penalty springs' stable step.
     coupling_safety: f64,
+    /// The smallest step the run accepts (s).
+    dt_floor: f64,
+    min_dt_ratio: f64,
     /// How the ring's layers are told apart, with its sector count and mean diameter.
     rule: Rule,
     sectors: usize,
@@ -95,6 +98,8 @@ impl Blast {
         let r_in = s.ring.as_ref().map_or(0.0, |r| r.inner_radius);
         let dt = (fem.safety * charge.dt_stable).min(dt_particles);
         Blast {
+            dt_floor: s.run.min_dt_ratio * dt,
+            min_dt_ratio: s.run.min_dt_ratio,
             centre: DVec2::from(s.charge.centre),
             e0,
             dt,
@@ -158,6 +163,14 @@ impl Simulation for Blast {
         let mut dt = (self.fem.safety * self.charge.dt_stable).min(self.dt_particles);
         if let Some(r) = &self.ring {
             dt = dt.min(self.coupling_safety * r.coupling.stable_dt());
+        }
+        if dt < self.dt_floor {
+            return Err(format!(
+                "the time step fell to {dt:.4e} s, below run.min_dt_ratio = {} of the initial {:.4e} s \
+                 (a crushed element or a runaway contact); lower run.min_dt_ratio to go on",
+                self.min_dt_ratio,
+                self.dt_floor / self.min_dt_ratio
+            ));
         }
         self.dt_range = (self.dt_range.0.min(dt), self.dt_range.1.max(dt));
         self.dt = dt;

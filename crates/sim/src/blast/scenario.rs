@@ -173,10 +173,19 @@ pub struct RunSpec {
     /// as a whole, so a wide skin saves rebuilds at little cost in pairs).
     #[serde(default)]
     pub skin: Option<f64>,
+    /// The run stops, as LS-DYNA's DTMIN does, once its step falls below this fraction
+    /// of the step it started with: a step that collapses means a crushed element or a
+    /// runaway contact, and the bound makes the step count `grains check` prints an
+    /// upper bound (the small rings' steps fall to 0.76 of the initial one).
+    #[serde(default = "default_min_dt_ratio")]
+    pub min_dt_ratio: f64,
 }
 
 fn default_safety() -> f64 {
     0.5
+}
+fn default_min_dt_ratio() -> f64 {
+    0.2
 }
 fn default_dem_safety() -> f64 {
     0.3
