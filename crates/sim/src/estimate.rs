@@ -18,6 +18,13 @@ pub mod rate {
     pub const FEM_DEM: f64 = 1.0e7;
 }
 
+/// Wall time of a step beyond its particles' work: starting the parallel passes and the
+/// bookkeeping between them (about a microsecond for a handful of particles).
+pub const STEP_OVERHEAD_S: f64 = 1e-6;
+
+/// Runs estimated to take longer than this (s) get a warning.
+pub const LONG_RUN_S: f64 = 86400.0;
+
 /// What a run will cost.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Estimate {
@@ -44,7 +51,8 @@ impl Estimate {
             particles,
             steps,
             memory_bytes,
-            wall_time_s: particles as f64 * steps as f64 / (rate * speedup),
+            wall_time_s: particles as f64 * steps as f64 / (rate * speedup)
+                + steps as f64 * STEP_OVERHEAD_S,
             threads,
         }
     }
@@ -65,7 +73,7 @@ impl Estimate {
 
     /// A warning for a run that will take very long, if it will.
     pub fn warning(&self) -> Option<String> {
-        (self.wall_time_s > 7.0 * 86400.0).then(|| {
+        (self.wall_time_s > LONG_RUN_S).then(|| {
             format!(
                 "this run takes {} steps, about {} on {} threads",
                 self.steps,

@@ -100,3 +100,12 @@ pub fn run_example(rel: &str) -> (Out, serde_json::Value) {
         .unwrap_or(serde_json::Value::Null);
     (o, s)
 }
+
+/// For each (from, to, must_contain): `base` with `from` replaced by `to` is refused
+/// (see [`assert_refused`]).
+pub fn refused_all(base: &str, cases: &[(&str, &str, &[&str])]) {
+    for (from, to, must) in cases {
+        assert!(base.contains(from), "the base lacks {from:?}");
+        refused(&base.replace(from, to), must);
+    }
+}

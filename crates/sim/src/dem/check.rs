@@ -47,6 +47,17 @@ pub fn fits(s: &Scenario, src: &Source, threads: usize) -> Result<u64, String> {
     Ok(n)
 }
 
+/// What a run of `n` particles among `walls` walls over `steps` steps costs.
+pub fn cost(n: u64, walls: usize, steps: u64, threads: usize) -> Estimate {
+    Estimate::new(
+        n,
+        steps,
+        n * bytes_per_particle(walls) + (1 << 20),
+        rate::DEM,
+        threads,
+    )
+}
+
 /// What `grains check` prints for a DEM scenario.
 pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, String> {
     fits(s, src, threads)?;
@@ -88,13 +99,6 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
         ),
         Line::new("skin", a.setup.skin, format!("{:.4e} m", a.setup.skin)),
     ]);
-    let e = Estimate::new(
-        n,
-        a.steps,
-        n * bytes_per_particle(walls) + (1 << 20),
-        rate::DEM,
-        threads,
-    );
-    d.cost(&e);
+    d.cost(&cost(n, walls, a.steps, threads));
     Ok(d)
 }

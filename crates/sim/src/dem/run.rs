@@ -90,6 +90,15 @@ pub fn run(
         opts.threads,
         out.display()
     ));
+    let e = super::check::cost(
+        sim.state.particles.len() as u64,
+        sim.setup.walls.len(),
+        steps,
+        opts.threads,
+    );
+    if let Some(w) = e.warning() {
+        opts.progress.announce(&format!("warning: {w}"));
+    }
     let every = match plan.samples {
         Every::Steps(k) => k,
         Every::Time(_) => 1,

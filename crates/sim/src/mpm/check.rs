@@ -43,6 +43,11 @@ pub fn fits(s: &Scenario, src: &Source, threads: usize) -> Result<(), String> {
         .fits_memory(&format!("{}: bodies and grid", src.origin))
 }
 
+/// What a run of `n` points on `nodes` grid nodes over `steps` steps costs.
+pub fn cost(n: u64, nodes: u64, steps: u64, threads: usize) -> Estimate {
+    Estimate::new(n, steps, memory(n, nodes), rate::MPM, threads)
+}
+
 /// What `grains check` prints for an MPM scenario.
 pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, String> {
     fits(s, src, threads)?;

@@ -140,6 +140,11 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
         opts.threads,
         out.display()
     ));
+    let nodes = (a.setup.grid.stored()[0] * a.setup.grid.stored()[1]) as u64;
+    let e = super::check::cost(a.particles.len() as u64, nodes, a.steps, opts.threads);
+    if let Some(w) = e.warning() {
+        opts.progress.announce(&format!("warning: {w}"));
+    }
     fresh_out(&out, &src.text)?;
     let mut sim = Mpm::new(&a, s.output.grid_frames.unwrap_or(true));
     let mut history = HistoryRecorder::create(&out, &mut sim)?;
