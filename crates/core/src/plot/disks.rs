@@ -6,6 +6,7 @@ use glam::DVec2;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::bar::draw_colour_bar;
 use super::colormap::viridis;
 use super::ticks::{axis_range, extent, format_linear, plottable};
 use super::{PlotError, FONT};
@@ -18,8 +19,6 @@ const BAR_AREA: u32 = 190;
 const MARGIN: u32 = 20;
 const X_LABELS: u32 = 50;
 const Y_LABELS: u32 = 100;
-/// Colour-bar resolution; more bands than visible colour steps.
-const BAR_BANDS: usize = 128;
 
 /// Draws disks (`centres`, `radii`) filled with the colour of `values` on a
 /// viridis-like scale, with equal x/y scaling and a colour bar labelled
@@ -60,7 +59,13 @@ pub fn scatter_disks_png(
         let (map, bar) = root.split_horizontally(w.saturating_sub(BAR_AREA));
         let v_range = axis_range(extent(disks.iter().map(|d| d.2)), 0.0);
         draw_map(&map, &disks, v_range)?;
-        draw_bar(&bar, v_range, value_label)?;
+        draw_colour_bar(
+            &bar,
+            v_range,
+            value_label,
+            (MARGIN, MARGIN + X_LABELS),
+            viridis,
+        )?;
         root.present()?;
         Ok(())
     })
@@ -127,37 +132,6 @@ fn draw_map(
             .iter()
             .map(|&&(c, _, v)| Pixel::new((c.x, c.y), colour(v))),
     )?;
-    Ok(())
-}
-
-fn draw_bar(
-    area: &DrawingArea<BitMapBackend, Shift>,
-    (v0, v1): (f64, f64),
-    label: &str,
-) -> Result<(), PlotError> {
-    let mut chart = ChartBuilder::on(area)
-        .margin_top(MARGIN)
-        .margin_bottom(MARGIN + X_LABELS)
-        .margin_left(20)
-        .margin_right(10)
-        .right_y_label_area_size(Y_LABELS + 20)
-        .build_cartesian_2d(0.0..1.0, v0..v1)?;
-    let fy = |v: &f64| format_linear(*v, v0, v1);
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .disable_x_axis()
-        .y_desc(label)
-        .y_label_formatter(&fy)
-        .label_style((FONT, 16))
-        .axis_desc_style((FONT, 20))
-        .draw()?;
-    let dv = (v1 - v0) / BAR_BANDS as f64;
-    chart.draw_series((0..BAR_BANDS).map(|k| {
-        let lo = v0 + k as f64 * dv;
-        let t = (k as f64 + 0.5) / BAR_BANDS as f64;
-        Rectangle::new([(0.0, lo), (1.0, lo + dv)], viridis(t).filled())
-    }))?;
     Ok(())
 }
 

@@ -1,18 +1,21 @@
-//! PNG plots: line plots of histories and particle maps.
+//! PNG plots: line plots of histories, particle maps and polar maps of binned fields.
 //!
 //! Plots are diagnostics, so they must never take a run down: empty series,
 //! single points, constant data and non-finite values all produce a valid
 //! (if uninformative) image, and every failure is a [`PlotError`], not a
 //! panic. Files are written to a temporary name and renamed into place.
 
+mod bar;
 mod colormap;
 mod disks;
 mod line;
+mod polar;
 mod ticks;
 
-pub use colormap::viridis;
+pub use colormap::{diverging, viridis};
 pub use disks::scatter_disks_png;
 pub use line::{LinePlot, Series};
+pub use polar::{ColourScale, Overlay, PolarMap};
 
 use plotters::prelude::*;
 

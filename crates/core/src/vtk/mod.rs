@@ -1,4 +1,5 @@
-//! Our own VTK XML writer (`.vtp` poly data, `.vtu` unstructured grids) with
+//! Our own VTK XML writer (`.vtp` poly data, `.vtu` unstructured grids, `.vts`
+//! structured grids) with
 //! raw appended binary data, and a reader for the same files.
 //!
 //! Files are `version="1.0"`, `header_type="UInt64"`, little endian: each
@@ -13,11 +14,13 @@ mod appended;
 mod data;
 mod polydata;
 mod reader;
+mod structured;
 mod unstructured;
 
 pub use data::{ArrayData, DataArray};
 pub use polydata::PolyData;
 pub use reader::{find_array, read_appended_arrays, ReadArray};
+pub use structured::StructuredGrid;
 pub use unstructured::UnstructuredGrid;
 
 use std::io;
