@@ -95,7 +95,11 @@ impl PolarMap<'_> {
                 self.n_theta
             )));
         }
-        if self.r_edges.windows(2).any(|w| !(w[1] > w[0])) {
+        if self
+            .r_edges
+            .windows(2)
+            .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+        {
             return Err(PlotError::InvalidInput(
                 "radial bin edges must increase".into(),
             ));

@@ -1,0 +1,28 @@
+//! Analysis of a dispersing particle ring as in xue-2019 §§4.2–5: coarse-grained polar
+//! fields, fronts, profiles, compact band and spall, spiral shear bands and jets.
+//!
+//! Everything works on plain slices ([`ParticleSet`], [`Contacts`]) so any engine or a
+//! frame read from disk can feed it; nothing here depends on an engine crate.
+//!
+//! * [`polar`]: the grid of bins (dr = 5 d0, dθ = π/90 about the charge centre).
+//! * [`fields`]: [`coarse_grain`] → [`PolarFields`] — packing fraction, velocity,
+//!   ∇v, dilation rate, shear rate ([`gradient`]), stress and pressure ([`stress`]).
+//! * [`synthetic`]: lattice rings with known fields, for tests and benchmarks.
+#![allow(clippy::needless_range_loop)]
+
+pub mod fields;
+pub mod gradient;
+pub mod input;
+pub mod kernel;
+pub mod polar;
+pub mod stress;
+pub mod synthetic;
+
+pub use fields::{coarse_grain, PolarFields};
+pub use input::{Contacts, InputError, ParticleSet, StressSource};
+pub use kernel::Kernel;
+pub use polar::{Binning, PolarGrid};
+pub use stress::StressField;
+
+#[cfg(test)]
+pub(crate) use synthetic as testing;
