@@ -10,18 +10,26 @@
 //! * [`synthetic`]: lattice rings with known fields, for tests and benchmarks.
 #![allow(clippy::needless_range_loop)]
 
+pub mod bands;
 pub mod fields;
+pub mod fronts;
 pub mod gradient;
 pub mod input;
 pub mod kernel;
 pub mod polar;
+pub mod profiles;
+pub mod spectra;
 pub mod stress;
 pub mod synthetic;
 
+pub use bands::{band_split, BandMap, BandSpec, BandSplit, Layer, LayerFigures, LayerVelocity};
 pub use fields::{coarse_grain, PolarFields};
+pub use fronts::{frame_fronts, front_history, FrameFronts, FrontHistory, FrontPhase, FrontSpec};
 pub use input::{Contacts, InputError, ParticleSet, StressSource};
 pub use kernel::Kernel;
 pub use polar::{Binning, PolarGrid};
+pub use profiles::{azimuthal_profile, radial_profile, AzimuthalProfile, RadialProfile};
+pub use spectra::{spectrum, Spectrum};
 pub use stress::StressField;
 
 #[cfg(test)]
