@@ -18,6 +18,7 @@ pub mod input;
 pub mod kernel;
 pub mod polar;
 pub mod profiles;
+pub mod shear_bands;
 pub mod spectra;
 pub mod stress;
 pub mod synthetic;
@@ -29,6 +30,7 @@ pub use input::{Contacts, InputError, ParticleSet, StressSource};
 pub use kernel::Kernel;
 pub use polar::{Binning, PolarGrid};
 pub use profiles::{azimuthal_profile, radial_profile, AzimuthalProfile, RadialProfile};
+pub use shear_bands::{shear_bands, ShearBandSpec, ShearBands, SpiralFamily};
 pub use spectra::{spectrum, Spectrum};
 pub use stress::StressField;
 
