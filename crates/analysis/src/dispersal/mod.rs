@@ -15,6 +15,7 @@ pub mod fields;
 pub mod fronts;
 pub mod gradient;
 pub mod input;
+pub mod jets;
 pub mod kernel;
 pub mod polar;
 pub mod profiles;
@@ -27,6 +28,7 @@ pub use bands::{band_split, BandMap, BandSpec, BandSplit, Layer, LayerFigures, L
 pub use fields::{coarse_grain, PolarFields};
 pub use fronts::{frame_fronts, front_history, FrameFronts, FrontHistory, FrontPhase, FrontSpec};
 pub use input::{Contacts, InputError, ParticleSet, StressSource};
+pub use jets::{jets, trace_jets, Jet, JetOrigin, JetSpec, Jets};
 pub use kernel::Kernel;
 pub use polar::{Binning, PolarGrid};
 pub use profiles::{azimuthal_profile, radial_profile, AzimuthalProfile, RadialProfile};
