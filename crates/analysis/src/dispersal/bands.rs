@@ -19,7 +19,7 @@
 //! [`LayerVelocity::TooFewGrains`].
 
 use super::fields::PolarFields;
-use super::input::{positive, InputError, ParticleSet};
+use super::input::{at_least, positive, InputError, ParticleSet};
 use super::polar::OUTSIDE;
 use serde::{Deserialize, Serialize};
 
@@ -62,14 +62,7 @@ impl BandSpec {
                 format!("must lie in (spall_fraction = {}, 1)", self.spall_fraction),
             ));
         }
-        if self.min_grains == 0 {
-            return Err(InputError::new(
-                format!("{key}.min_grains"),
-                0,
-                "must be at least 1",
-            ));
-        }
-        Ok(())
+        at_least(&format!("{key}.min_grains"), self.min_grains, 1).map(|_| ())
     }
 }
 

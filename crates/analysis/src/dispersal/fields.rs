@@ -225,7 +225,7 @@ impl PolarFields {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dispersal::testing::{jittered_ring, LatticeRing as Ring};
+    use crate::dispersal::synthetic::{jittered_ring, LatticeRing as Ring};
 
     /// The two kernels every field test runs with: the paper's bins and a hat of one
     /// grain diameter.

@@ -39,13 +39,12 @@ pub(crate) fn positive(key: &str, v: f64) -> Result<f64, InputError> {
     }
 }
 
-/// Checks that `v` lies in `lo..=hi`.
-#[allow(dead_code)] // used by the settings (next commit)
-pub(crate) fn within(key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, InputError> {
-    if v.is_finite() && v >= lo && v <= hi {
+/// Checks that the count `v` is at least `min`.
+pub(crate) fn at_least(key: &str, v: usize, min: usize) -> Result<usize, InputError> {
+    if v >= min {
         Ok(v)
     } else {
-        Err(InputError::new(key, v, format!("must lie in [{lo}, {hi}]")))
+        Err(InputError::new(key, v, format!("must be at least {min}")))
     }
 }
 
@@ -199,7 +198,5 @@ mod tests {
         assert_eq!(e.value, "2");
         assert!(Contacts::new(&[0, 1], &[1], &f, 2).is_err());
         assert!(positive("k", 0.0).is_err());
-        assert!(within("k", 0.5, 0.0, 1.0).is_ok());
-        assert!(within("k", f64::NAN, 0.0, 1.0).is_err());
     }
 }

@@ -19,7 +19,7 @@
 //!    or in the spall.
 
 use super::bands::Layer;
-use super::input::{positive, InputError, ParticleSet};
+use super::input::{at_least, positive, InputError, ParticleSet};
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -78,14 +78,7 @@ impl JetSpec {
         }
         positive(&k("min_height"), self.min_height)?;
         positive(&k("noise_factor"), self.noise_factor)?;
-        if self.min_separation == 0 {
-            return Err(InputError::new(
-                k("min_separation"),
-                0,
-                "must be at least 1",
-            ));
-        }
-        Ok(())
+        at_least(&k("min_separation"), self.min_separation, 1).map(|_| ())
     }
 }
 

@@ -36,12 +36,13 @@
 //!    mode (k ≥ 2) of the annulus' mean normalised γ̇ per sector.
 //!
 //! The angle is the one at the inner perimeter; the paper notes that it grows
-//! outward. Resolution: a band is found if it is at least a sector apart from its
+//! outward. A family whose angle is an end of the search range is flagged
+//! (`at_search_limit`): at the low end it is radial streaks, not spirals. Resolution: a band is found if it is at least a sector apart from its
 //! neighbours of the same sense and the annulus spans a few rings.
 
 use super::bands::BandMap;
 use super::fields::PolarFields;
-use super::input::{positive, InputError};
+use super::input::{at_least, positive, InputError};
 use super::spectra::spectrum;
 use serde::{Deserialize, Serialize};
 
@@ -86,9 +87,7 @@ impl ShearBandSpec {
     /// Checks the settings; `key` names the section in messages.
     pub fn validate(&self, key: &str) -> Result<(), InputError> {
         let k = |f: &str| format!("{key}.{f}");
-        if self.rows < 2 {
-            return Err(InputError::new(k("rows"), self.rows, "must be at least 2"));
-        }
+        at_least(&k("rows"), self.rows, 2)?;
         positive(&k("angle_step"), self.angle_step)?;
         positive(&k("ridge_threshold"), self.ridge_threshold)?;
         positive(&k("group_gap"), self.group_gap)?;
@@ -99,14 +98,7 @@ impl ShearBandSpec {
                 "must satisfy 0 ≤ min_angle < max_angle < 90",
             ));
         }
-        if self.min_separation == 0 {
-            return Err(InputError::new(
-                k("min_separation"),
-                0,
-                "must be at least 1",
-            ));
-        }
-        Ok(())
+        at_least(&k("min_separation"), self.min_separation, 1).map(|_| ())
     }
 }
 
@@ -122,6 +114,9 @@ pub struct SpiralFamily {
     /// Standard deviation of the ridge response at that angle (how sharply the family
     /// stands out; about 0 for no bands).
     pub contrast: f64,
+    /// The angle is an end of the search range: the bands may lie outside it (at the
+    /// low end, nearly radial streaks rather than spirals).
+    pub at_search_limit: bool,
 }
 
 /// The spiral shear bands of one frame.
@@ -240,8 +235,7 @@ impl Annulus {
 
     /// The ridge response of every angle of the grid for `sense`.
     fn responses(&self, sense: f64, spec: &ShearBandSpec) -> Vec<(f64, Vec<f64>, f64)> {
-        let steps = ((spec.max_angle - spec.min_angle) / spec.angle_step).floor() as usize;
-        (0..=steps)
+        (0..=last_step(spec))
             .map(|s| {
                 let deg = spec.min_angle + s as f64 * spec.angle_step;
                 let r = self.ridge(sense, deg.to_radians(), spec.min_separation);
@@ -266,15 +260,18 @@ impl Annulus {
                 angle: f64::NAN,
                 roots: Vec::new(),
                 contrast: 0.0,
+                at_search_limit: false,
             };
         };
         let peaks = peaks(&best, spec.ridge_threshold * noise, spec.min_separation);
         let dt = std::f64::consts::TAU / n.max(1) as f64;
+        let last = spec.min_angle + last_step(spec) as f64 * spec.angle_step;
         SpiralFamily {
             count: peaks.len(),
             angle,
             roots: peaks.iter().map(|&j| (j as f64 + 0.5) * dt).collect(),
             contrast: sd,
+            at_search_limit: angle <= spec.min_angle || angle >= last,
         }
     }
 
@@ -311,6 +308,11 @@ impl Annulus {
             annulus,
         }
     }
+}
+
+/// Index of the last angle of the search grid.
+fn last_step(spec: &ShearBandSpec) -> usize {
+    ((spec.max_angle - spec.min_angle) / spec.angle_step).floor() as usize
 }
 
 fn mean_sd(v: &[f64]) -> (f64, f64) {
@@ -424,6 +426,7 @@ mod tests {
         assert_eq!(b.anticlockwise.count, 12, "{b:?}");
         assert!((b.clockwise.angle - 45.0).abs() <= 5.0, "{b:?}");
         assert!((b.anticlockwise.angle - 45.0).abs() <= 5.0, "{b:?}");
+        assert!(!b.clockwise.at_search_limit && !b.anticlockwise.at_search_limit);
         assert_eq!(b.groups, 6, "{b:?}");
         assert_eq!(b.dominant_mode, Some(6), "{b:?}");
     }
@@ -488,6 +491,22 @@ mod tests {
         assert!((b.anticlockwise.angle - 45.0).abs() <= 5.0, "{b:?}");
         assert!(
             b.annulus.0 >= 10e-3 && b.annulus.1 > b.annulus.0 + 1e-3,
+            "{b:?}"
+        );
+    }
+
+    /// Radial streaks (γ̇ varying with θ only) are not spirals: they come out at the
+    /// low end of the search, flagged.
+    #[test]
+    fn radial_streaks_are_flagged() {
+        let mut a = synthetic(&[], 45.0, 0.01, 0.0);
+        let n = a.n_theta;
+        for (k, v) in a.values.iter_mut().enumerate() {
+            *v = 1.0 + (6.0 * TAU * (k % n) as f64 / n as f64).sin().abs();
+        }
+        let b = a.detect(&ShearBandSpec::default(), (0.0, 1.0));
+        assert!(
+            b.clockwise.at_search_limit && b.clockwise.angle == 15.0,
             "{b:?}"
         );
     }

@@ -137,14 +137,8 @@ fn draw_map(
 
 #[cfg(test)]
 mod tests {
-    use super::super::test_dir;
+    use super::super::{is_png, test_dir};
     use super::*;
-
-    fn is_png(path: &Path) -> bool {
-        std::fs::read(path)
-            .map(|b| b.starts_with(b"\x89PNG"))
-            .unwrap_or(false)
-    }
 
     #[test]
     fn draws_a_packing() {

@@ -60,6 +60,14 @@ fn palette(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
 
+/// True if the file exists and starts with the PNG signature.
+#[cfg(test)]
+pub(crate) fn is_png(path: &std::path::Path) -> bool {
+    std::fs::read(path)
+        .map(|b| b.starts_with(b"\x89PNG"))
+        .unwrap_or(false)
+}
+
 #[cfg(test)]
 pub(crate) fn test_dir() -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("grains-core-plot-{}", std::process::id()));

@@ -315,14 +315,8 @@ fn circle_points(r: f64) -> Vec<(f64, f64)> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::test_dir;
+    use super::super::{is_png, test_dir};
     use super::*;
-
-    fn is_png(path: &Path) -> bool {
-        std::fs::read(path)
-            .map(|b| b.starts_with(b"\x89PNG"))
-            .unwrap_or(false)
-    }
 
     fn map<'a>(edges: &'a [f64], values: &'a [f64], nt: usize) -> PolarMap<'a> {
         PolarMap {

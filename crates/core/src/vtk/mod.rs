@@ -67,6 +67,16 @@ fn check_arrays(arrays: &[crate::vtk::DataArray], count: usize, kind: &str) -> i
     Ok(())
 }
 
+/// Bytes the point and cell arrays take in the appended block (each with its 8-byte
+/// count), to size the block once.
+fn data_bytes(point_data: &[DataArray], cell_data: &[DataArray]) -> usize {
+    point_data
+        .iter()
+        .chain(cell_data)
+        .map(|a| a.data.byte_len() + 8)
+        .sum()
+}
+
 /// Checks that a point index refers to an existing point.
 fn check_index(index: i64, n_points: usize, what: &str, cell: usize) -> io::Result<()> {
     if index < 0 || index as u64 >= n_points as u64 {

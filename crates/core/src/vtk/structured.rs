@@ -5,7 +5,7 @@ use std::io;
 use std::path::Path;
 
 use super::appended::AppendedFile;
-use super::{check_arrays, invalid_input, DataArray};
+use super::{check_arrays, data_bytes, invalid_input, DataArray};
 
 /// A structured grid, written as `.vts` (`VTKFile type="StructuredGrid"`).
 ///
@@ -62,12 +62,7 @@ impl StructuredGrid {
     /// Validates, then writes the `.vts` atomically.
     pub fn write(&self, path: &Path) -> io::Result<()> {
         self.validate()?;
-        let data_bytes: usize = self
-            .point_data
-            .iter()
-            .chain(&self.cell_data)
-            .map(|a| a.data.byte_len() + 8)
-            .sum();
+        let data_bytes = data_bytes(&self.point_data, &self.cell_data);
         let mut f = AppendedFile::new("StructuredGrid", self.points.len() * 24 + data_bytes + 64);
         let [ni, nj, nk] = self.dims.map(|n| n.saturating_sub(1));
         let extent = format!("0 {ni} 0 {nj} 0 {nk}");
