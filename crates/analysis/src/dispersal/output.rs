@@ -314,43 +314,20 @@ pub fn plot_fronts(path: &Path, title: &str, h: &FrontHistory) -> Result<(), Plo
         title: &title,
         x_label: "t [µs]",
         y_label: "radius [mm]",
-        series: vec![
-            Series {
-                name: "R_in",
-                x: &t,
-                y: &r_in,
-            },
-            Series {
-                name: "R_out",
-                x: &t,
-                y: &r_out,
-            },
-            Series {
-                name: "R_comp",
-                x: &t,
-                y: &r_comp,
-            },
-            Series {
-                name: "R_p: primary shock (PSF)",
-                x: &t,
-                y: &psf,
-            },
-            Series {
-                name: "R_p: rarefaction (RW)",
-                x: &t,
-                y: &rw,
-            },
-            Series {
-                name: "R_p: secondary shock (SSF)",
-                x: &t,
-                y: &ssf,
-            },
-            Series {
-                name: "R_p: after SSF meets R_comp",
-                x: &t,
-                y: &merged,
-            },
-        ],
+        // Curves without a single point (no stress: no R_p) stay out of the legend.
+        series: [
+            ("R_in", &r_in),
+            ("R_out", &r_out),
+            ("R_comp", &r_comp),
+            ("R_p: primary shock (PSF)", &psf),
+            ("R_p: rarefaction (RW)", &rw),
+            ("R_p: secondary shock (SSF)", &ssf),
+            ("R_p: after SSF meets R_comp", &merged),
+        ]
+        .into_iter()
+        .filter(|(_, y)| y.iter().any(|v| v.is_finite()))
+        .map(|(name, y)| Series { name, x: &t, y })
+        .collect(),
         log_y: false,
         points: false,
     }
