@@ -192,7 +192,7 @@ pub(crate) fn sector_index(
         .reduce(|| f64::INFINITY, f64::min);
     (
         SectorIndex::new(grid.n_theta(), &sector),
-        sector_reach(grid, w, r_inner),
+        sector_reach(grid, w, 0.0, r_inner),
     )
 }
 

@@ -143,17 +143,18 @@ impl SectorIndex {
     }
 }
 
-/// Sectors on either side from which a point `reach` (m) away at radius ≥ `r_inner` can
-/// touch a sector.
-pub(crate) fn sector_reach(grid: &PolarGrid, reach: f64, r_inner: f64) -> usize {
+/// Sectors on either side of its anchor's sector that a source can touch: the kernel
+/// (half-width `w`) is spread from points up to `offset` (m) from anchors at radius
+/// ≥ `r_inner`. Such a point is at most asin(offset/r_inner) from the anchor in angle
+/// and its kernel spans ±w/(r_inner − offset); an anchor anywhere in its sector then
+/// reaches ceil(that angle/dθ) sectors either side. Near the centre, every sector.
+pub(crate) fn sector_reach(grid: &PolarGrid, w: f64, offset: f64, r_inner: f64) -> usize {
     let half = grid.n_theta() / 2;
-    if r_inner <= reach {
+    if r_inner <= offset + w {
         return half;
     }
-    // The angle subtended by `reach` at radius r_inner, plus one sector for the anchor's
-    // own position within its sector.
-    let a = (reach / r_inner).min(1.0).asin();
-    (((a / grid.dtheta()).ceil() as usize) + 1).min(half)
+    let a = (offset / r_inner).asin() + w / (r_inner - offset);
+    ((a / grid.dtheta()).ceil() as usize).min(half)
 }
 
 /// Per-bin accumulators gathered sector by sector: for each sector `j`, every source
@@ -241,7 +242,7 @@ mod tests {
         }
         let sector: Vec<u32> = pts.iter().map(|p| g.sector_of(*p) as u32).collect();
         let idx = SectorIndex::new(36, &sector);
-        let reach = sector_reach(&g, w, 1.1);
+        let reach = sector_reach(&g, w, 0.0, 1.1);
         let got = gather(
             &g,
             &idx,
@@ -253,6 +254,7 @@ mod tests {
         for k in 0..g.len() {
             assert!((got[k] - direct[k]).abs() < 1e-12, "{k}");
         }
-        assert_eq!(sector_reach(&g, 5.0, 1.0), 18);
+        assert_eq!(sector_reach(&g, 0.5, 0.5, 1.0), 18);
+        assert_eq!(sector_reach(&g, 0.1, 0.0, 2.0), 1);
     }
 }

@@ -80,9 +80,9 @@ impl PolarGrid {
         })
     }
 
-    /// The paper's grid for grains of mean diameter `d0`: dr = `dr_d0`·d0 (5 or 10),
-    /// `n_theta` sectors (180 in the paper), from `r_min` out to the farthest centre in
-    /// `particles`, so that every particle is binned.
+    /// Rings of width `dr` (the paper's 5 d0 or 10 d0) and `n_theta` sectors (180 in
+    /// the paper) from `r_min` out one ring beyond the farthest centre in `particles`,
+    /// so that every particle is binned.
     pub fn covering(
         centre: DVec2,
         r_min: f64,

@@ -177,7 +177,7 @@ fn contact_sums_hat(grid: &PolarGrid, particles: &ParticleSet, c: Contacts, w: f
         (mids.into_iter().map(|m| m.0).collect(), r_inner, half)
     };
     let index = SectorIndex::new(grid.n_theta(), &sector);
-    let reach = sector_reach(grid, w + half_branch, r_inner);
+    let reach = sector_reach(grid, w, half_branch, r_inner);
     gather(
         grid,
         &index,
