@@ -15,6 +15,7 @@
 #![warn(missing_docs)]
 
 pub mod contacts;
+pub mod dispersal;
 pub mod fraction;
 pub mod grid;
 pub mod psi6;

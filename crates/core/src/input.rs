@@ -65,6 +65,12 @@ impl Shown for &f64 {
     }
 }
 
+impl Shown for glam::DVec2 {
+    fn shown(&self) -> String {
+        format!("[{}, {}]", shown(self.x), shown(self.y))
+    }
+}
+
 macro_rules! shown_by_display {
     ($($t:ty),*) => {$(
         impl Shown for $t {

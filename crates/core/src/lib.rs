@@ -3,10 +3,10 @@
 //! Every solver in the workspace writes its results through this crate so
 //! that all of them produce the same kinds of files:
 //!
-//! - [`vtk`]: ParaView-readable `.vtp`/`.vtu` frames (VTK XML, appended raw
+//! - [`vtk`]: ParaView-readable `.vtp`/`.vtu`/`.vts` frames (VTK XML, appended raw
 //!   binary) and [`pvd`] time-series collections that index them;
 //! - [`history`]: CSV time histories with full round-trip precision;
-//! - [`plot`]: PNG line plots and particle maps;
+//! - [`plot`]: PNG line plots, particle maps and polar maps;
 //! - [`checks`]: pass/fail verification records for `summary.json`, written
 //!   with [`json`];
 //! - [`input`]: the one error type for rejected input (key, value, allowed) and the

@@ -23,6 +23,7 @@ pub mod explosive;
 pub mod integrate;
 pub mod mesh;
 pub mod setup;
+pub mod shell;
 pub mod state;
 pub mod step;
 pub mod stress;

@@ -6,6 +6,7 @@ use glam::DVec2;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::bar::draw_colour_bar;
 use super::colormap::viridis;
 use super::ticks::{axis_range, extent, format_linear, plottable};
 use super::{PlotError, FONT};
@@ -18,8 +19,6 @@ const BAR_AREA: u32 = 190;
 const MARGIN: u32 = 20;
 const X_LABELS: u32 = 70;
 const Y_LABELS: u32 = 120;
-/// Colour-bar resolution; more bands than visible colour steps.
-const BAR_BANDS: usize = 128;
 
 /// Geometry drawn over a particle map: a wall, a plate, the edge of a charge.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -117,7 +116,13 @@ impl ParticleMap<'_> {
             let (map, bar) = root.split_horizontally(w.saturating_sub(BAR_AREA));
             let v_range = axis_range(extent(disks.iter().map(|d| d.2)), 0.0);
             draw_map(&map, &disks, &outlines, unit, v_range)?;
-            draw_bar(&bar, v_range, self.value_label)?;
+            draw_colour_bar(
+                &bar,
+                v_range,
+                self.value_label,
+                (MARGIN, MARGIN + X_LABELS),
+                viridis,
+            )?;
             root.present()?;
             Ok(())
         })
@@ -289,48 +294,10 @@ fn clip(
     ))
 }
 
-fn draw_bar(
-    area: &DrawingArea<BitMapBackend, Shift>,
-    (v0, v1): (f64, f64),
-    label: &str,
-) -> Result<(), PlotError> {
-    let mut chart = ChartBuilder::on(area)
-        .margin_top(MARGIN)
-        .margin_bottom(MARGIN + X_LABELS)
-        .margin_left(20)
-        .margin_right(10)
-        .right_y_label_area_size(Y_LABELS + 20)
-        .build_cartesian_2d(0.0..1.0, v0..v1)?;
-    let fy = |v: &f64| format_linear(*v, v0, v1);
-    let dv = (v1 - v0) / BAR_BANDS as f64;
-    chart.draw_series((0..BAR_BANDS).map(|k| {
-        let lo = v0 + k as f64 * dv;
-        let t = (k as f64 + 0.5) / BAR_BANDS as f64;
-        Rectangle::new([(0.0, lo), (0.4, lo + dv)], viridis(t).filled())
-    }))?;
-    // Labels last, so that no band covers them.
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .disable_x_axis()
-        .y_desc(label)
-        .y_label_formatter(&fy)
-        .label_style((FONT, 16))
-        .axis_desc_style((FONT, 20))
-        .draw()?;
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
-    use super::super::test_dir;
+    use super::super::{is_png, test_dir};
     use super::*;
-
-    fn is_png(path: &Path) -> bool {
-        std::fs::read(path)
-            .map(|b| b.starts_with(b"\x89PNG"))
-            .unwrap_or(false)
-    }
 
     #[test]
     fn draws_a_packing() {

@@ -198,7 +198,7 @@ impl LinePlot<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::test_dir;
+    use super::super::{is_png, test_dir};
     use super::*;
 
     fn plot<'a>(series: Vec<Series<'a>>, log_y: bool, points: bool) -> LinePlot<'a> {
@@ -210,12 +210,6 @@ mod tests {
             log_y,
             points,
         }
-    }
-
-    fn is_png(path: &Path) -> bool {
-        std::fs::read(path)
-            .map(|b| b.starts_with(b"\x89PNG"))
-            .unwrap_or(false)
     }
 
     #[test]

