@@ -192,97 +192,89 @@ fn bench_prints_particle_steps_last() {
 }
 
 #[test]
-fn body_without_points() {
-    refused(
-        &BASE.replace("radius = 0.5 }", "radius = 0.01 }"),
-        &["body[0].geometry", "holds no material point"],
-    );
-}
-
-#[test]
-fn point_outside_the_grid() {
-    refused(
-        &BASE.replace("centre = [1.0, 1.5]", "centre = [2.8, 1.5]"),
-        &["body[0].geometry", "point at", "inside the grid"],
-    );
-}
-
-#[test]
-fn non_positive_moduli_and_density() {
-    refused(
-        &BASE.replace("bulk = 1.0", "bulk = 0.0"),
-        &["material[0].bulk = 0", "> 0"],
-    );
-    refused(
-        &BASE.replace("shear = 0.5", "shear = -0.5"),
-        &["material[0].shear = -0.5", "> 0"],
-    );
-    refused(
-        &BASE.replace("density = 1.0", "density = 0.0"),
-        &["material[0].density = 0", "> 0"],
-    );
-}
-
-#[test]
-fn time_step_above_the_limit() {
-    refused(
-        &BASE.replace("duration = 14.0", "duration = 14.0\ndt = 0.1"),
-        &["run.dt = 0.1", "above the stable limit"],
-    );
-}
-
-#[test]
-fn unknown_shape_function_and_update_scheme() {
-    refused(
-        &BASE.replace("shape = \"gimp\"", "shape = \"cpdi\""),
+fn bad_values_are_refused() {
+    refused_all(
+        BASE,
         &[
-            "method.shape = \"cpdi\"",
-            "unknown shape function",
-            "\"gimp\"",
+            (
+                "radius = 0.5 }",
+                "radius = 0.01 }",
+                &["body[0].geometry", "holds no material point"],
+            ),
+            (
+                "centre = [1.0, 1.5]",
+                "centre = [2.8, 1.5]",
+                &["body[0].geometry", "point at", "inside the grid"],
+            ),
+            ("bulk = 1.0", "bulk = 0.0", &["material[0].bulk = 0", "> 0"]),
+            (
+                "shear = 0.5",
+                "shear = -0.5",
+                &["material[0].shear = -0.5", "> 0"],
+            ),
+            (
+                "density = 1.0",
+                "density = 0.0",
+                &["material[0].density = 0", "> 0"],
+            ),
+            (
+                "duration = 14.0",
+                "duration = 14.0\ndt = 0.1",
+                &["run.dt = 0.1", "above the stable limit"],
+            ),
+            (
+                "shape = \"gimp\"",
+                "shape = \"cpdi\"",
+                &[
+                    "method.shape = \"cpdi\"",
+                    "unknown shape function",
+                    "\"gimp\"",
+                ],
+            ),
+            (
+                "update = \"usavg\"",
+                "update = \"usx\"",
+                &["method.update = \"usx\"", "unknown update scheme", "\"musl\""],
+            ),
+            ("engine = \"mpm\"", "engine = \"fem\"", &["engine", "\"fem\""]),
+            (
+                "cell_size = 0.125",
+                "cell_size = 0.7",
+                &["grid.cell_size = 0.7", "whole number"],
+            ),
+            (
+                "material = \"elastic\"",
+                "material = \"steel\"",
+                &["body[0].material = \"steel\"", "must be one of"],
+            ),
+            (
+                "top = { mu = 0.1 }",
+                "top = { mu = -0.1 }",
+                &["walls.top.mu = -0.1"],
+            ),
+            (
+                "particles_per_cell = 2",
+                "particles_per_cell = 0",
+                &["grid.particles_per_cell = 0"],
+            ),
+            ("shear = 0.5", "shear = 0.5\nyoung = 1.0", &["young"]),
+            (
+                "impact = 1\ntolerance = 0.15",
+                "impact = 0\ntolerance = 0.15",
+                &["check[2].impact = 0"],
+            ),
+            (
+                "frames = 5",
+                "frames = 5\ncheckpoint_every = 10",
+                &["output.checkpoint_every", "DEM runs only"],
+            ),
+            // A second body overlapping the first.
+            (
+                "[run]",
+                "[[body]]\nname = \"other\"\nmaterial = \"elastic\"\ngeometry = { shape = \"disk\", centre = [1.3, 1.5], radius = 0.5 }\n\n[run]",
+                &["body[1].geometry", "overlaps body \"cylinder\""],
+            ),
         ],
-    );
-    refused(
-        &BASE.replace("update = \"usavg\"", "update = \"usx\""),
-        &[
-            "method.update = \"usx\"",
-            "unknown update scheme",
-            "\"musl\"",
-        ],
-    );
-}
-
-#[test]
-fn other_mistakes() {
-    refused(
-        &BASE.replace("engine = \"mpm\"", "engine = \"fem\""),
-        &["engine", "\"fem\""],
-    );
-    refused(
-        &BASE.replace("cell_size = 0.125", "cell_size = 0.7"),
-        &["grid.cell_size = 0.7", "whole number"],
-    );
-    refused(
-        &BASE.replace("material = \"elastic\"", "material = \"steel\""),
-        &["body[0].material = \"steel\"", "must be one of"],
-    );
-    refused(
-        &BASE.replace("top = { mu = 0.1 }", "top = { mu = -0.1 }"),
-        &["walls.top.mu = -0.1"],
-    );
-    refused(
-        &BASE.replace("particles_per_cell = 2", "particles_per_cell = 0"),
-        &["grid.particles_per_cell = 0"],
-    );
-    refused(
-        &BASE.replace("shear = 0.5", "shear = 0.5\nyoung = 1.0"),
-        &["young"],
-    );
-    refused(
-        &BASE.replace(
-            "impact = 1\ntolerance = 0.15",
-            "impact = 0\ntolerance = 0.15",
-        ),
-        &["check[2].impact = 0"],
     );
     assert_eq!(grains(&["run", "/nonexistent/x.toml"]).code, 1);
 }

@@ -140,18 +140,10 @@ fn small_packing_writes_everything_and_is_thread_independent() {
         &std::fs::read_to_string(one.path().join("out/summary.json")).unwrap(),
     )
     .unwrap();
-    for k in [
-        "particles",
-        "mean_diameter",
-        "polydispersity",
-        "packing_fraction_bulk",
-        "psi6_local_mean_all",
-        "psi6_local_mean_interior",
-        "psi6_global_interior",
-        "mean_coordination",
-        "fabric_anisotropy",
-        "wall_time_s",
-    ] {
+    for k in grains_sim::analyze::MAIN_FIGURES
+        .iter()
+        .chain(&["wall_time_s"])
+    {
         assert!(summary[k].is_number(), "summary.json {k}: {}", summary[k]);
     }
     let d0 = summary["mean_diameter"].as_f64().unwrap();

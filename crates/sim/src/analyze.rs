@@ -75,20 +75,24 @@ pub fn figures(s: &Sample, a: &Analysis) -> Map<String, Value> {
     m
 }
 
+/// The figures that say most about a packing, in print order (also the top-level keys
+/// of `grains pack`'s summary.json).
+pub const MAIN_FIGURES: [&str; 9] = [
+    "particles",
+    "mean_diameter",
+    "polydispersity",
+    "packing_fraction_bulk",
+    "psi6_local_mean_all",
+    "psi6_local_mean_interior",
+    "psi6_global_interior",
+    "mean_coordination",
+    "fabric_anisotropy",
+];
+
 /// The main figures, one `key: value` line each.
 pub fn main_figures(f: &Map<String, Value>) -> String {
     let mut s = String::new();
-    for k in [
-        "particles",
-        "mean_diameter",
-        "polydispersity",
-        "packing_fraction_bulk",
-        "psi6_local_mean_all",
-        "psi6_local_mean_interior",
-        "psi6_global_interior",
-        "mean_coordination",
-        "fabric_anisotropy",
-    ] {
+    for k in MAIN_FIGURES {
         if let Some(v) = f.get(k) {
             s.push_str(&format!("{k}: {v}\n"));
         }

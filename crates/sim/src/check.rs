@@ -112,6 +112,28 @@ impl Derived {
         v
     }
 
+    /// The lines of a run in fixed steps: the step against its stable limit, the
+    /// duration and the step count.
+    pub fn fixed_step(dt: f64, dt_critical: f64, duration: f64, steps: u64) -> [Line; 4] {
+        [
+            Line::new(
+                "dt",
+                dt,
+                format!(
+                    "{dt:.4e} s ({:.3} of the stable limit {dt_critical:.4e} s)",
+                    dt / dt_critical
+                ),
+            ),
+            Line::quiet("dt_critical", dt_critical),
+            Line::new("duration", duration, format!("{duration:.4e} s")),
+            Line::new(
+                "steps",
+                steps,
+                format!("{steps} (exact: the step is fixed)"),
+            ),
+        ]
+    }
+
     /// The shared tail: the estimate.
     pub fn cost(&mut self, e: &Estimate) {
         self.lines.push(Line::new(

@@ -1,6 +1,7 @@
 //! `[output]`: what a run writes and how often — one table for every engine, each
 //! engine filling in its own defaults and refusing what it cannot write.
 
+use crate::driver::{Every, Horizon, Plan};
 use grains_core::input::{InputError, Shown};
 use serde::{Deserialize, Serialize};
 
@@ -115,6 +116,30 @@ impl OutputSpec {
             }
         }
         Ok(())
+    }
+
+    /// The schedule of a run of `steps` fixed steps: samples and frames spread evenly
+    /// over them.
+    pub fn plan_by_steps(&self, c: &Capabilities, steps: u64) -> Plan {
+        Plan {
+            horizon: Horizon::Steps(steps),
+            samples: Every::Steps((steps / self.history(c).max(1)).max(1)),
+            frames: Every::Steps((steps / self.frames(c).max(1)).max(1)),
+            snapshots: self.snapshot_times(),
+            checkpoint_every: self.checkpoint_every,
+        }
+    }
+
+    /// The schedule of a run of `duration` seconds in steps that adapt: samples and
+    /// frames spread evenly over the time.
+    pub fn plan_by_time(&self, c: &Capabilities, duration: f64) -> Plan {
+        Plan {
+            horizon: Horizon::Time(duration),
+            samples: Every::Time(duration / self.history(c) as f64),
+            frames: Every::Time(duration / self.frames(c).max(1) as f64),
+            snapshots: self.snapshot_times(),
+            checkpoint_every: self.checkpoint_every,
+        }
     }
 
     /// The snapshot times, ascending.

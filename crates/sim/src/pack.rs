@@ -127,17 +127,7 @@ fn run(
     let mut summary = serde_json::Map::new();
     summary.insert("name".into(), json!(spec.name));
     summary.insert("status".into(), json!("completed"));
-    for k in [
-        "particles",
-        "mean_diameter",
-        "polydispersity",
-        "packing_fraction_bulk",
-        "psi6_local_mean_all",
-        "psi6_local_mean_interior",
-        "psi6_global_interior",
-        "mean_coordination",
-        "fabric_anisotropy",
-    ] {
+    for k in crate::analyze::MAIN_FIGURES {
         summary.insert(k.into(), fig.remove(k).unwrap_or(Value::Null));
     }
     summary.insert("wall_time_s".into(), json!(wall));

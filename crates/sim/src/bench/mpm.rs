@@ -52,6 +52,15 @@ pub fn setup(o: &Options) -> Result<(Setup, Particles, f64), String> {
             o.grid
         ));
     }
+    let nodes = ((o.grid + 1) * (o.grid + 1)) as u64;
+    crate::estimate::Estimate::new(
+        o.particles as u64,
+        o.steps,
+        o.particles as u64 * 170 + nodes * 176,
+        crate::estimate::rate::MPM,
+        1,
+    )
+    .fits_memory("--particles")?;
     if !(1..=2).contains(&o.bodies) {
         return Err(format!("--bodies = {}: must be 1 or 2", o.bodies));
     }

@@ -3,7 +3,7 @@
 use super::assemble::assemble;
 use super::scenario::Scenario;
 use super::{plots, probes, Blast, BlastSample, CAPABILITIES};
-use crate::driver::{discount, Counters, Every, Horizon, Observer, Plan, Report, Status};
+use crate::driver::{discount, Counters, Observer, Report, Status};
 use crate::frames::FrameRecorder;
 use crate::frames::{Mapped, Snapshots};
 use crate::history::{HistoryRecorder, Recorded};
@@ -95,19 +95,6 @@ impl Recorded for Blast {
     }
 }
 
-/// The schedule of a run of `s`.
-pub fn plan(s: &Scenario) -> Plan {
-    let o = &s.output;
-    let duration = s.run.duration;
-    Plan {
-        horizon: Horizon::Time(duration),
-        samples: Every::Time(duration / o.history(&CAPABILITIES) as f64),
-        frames: Every::Time(duration / o.frames(&CAPABILITIES).max(1) as f64),
-        snapshots: o.snapshot_times(),
-        checkpoint_every: None,
-    }
-}
-
 /// Runs `s` (read from `src`) into `opts.out`.
 pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished, RunError> {
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
@@ -136,7 +123,7 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
     };
     std::fs::create_dir_all(&snaps.dir)
         .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", snaps.dir.display()))?;
-    let plan = plan(s);
+    let plan = s.output.plan_by_time(&CAPABILITIES, s.run.duration);
     let outcome = {
         let mut observers: Vec<&mut dyn Observer<Blast>> =
             vec![&mut history, &mut frames, &mut snaps, &mut last];
@@ -194,6 +181,13 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
             .map_or(0, |r| r.state.contacts.builds)
             .into(),
     );
+    if let Some(r) = &sim.ring {
+        // The particles' own fingerprint, comparable with a DEM run's.
+        counts.insert(
+            "ring_state_hash".into(),
+            format!("{:016x}", grains_dem::diagnostics::state_hash(&r.state)).into(),
+        );
+    }
     let dt_critical = match &sim.ring {
         Some(_) => sim.dt_particles,
         None => sim.charge.dt_stable,

@@ -3,7 +3,7 @@
 
 use super::scenario::{CheckSpec, FigureSpec, ParticleSource, RadiusSpec, Scenario};
 use glam::DVec2;
-use grains_core::input::{InputError, Shown};
+use grains_core::input::{positive, InputError, Shown};
 use grains_core::rng;
 use grains_dem::{timestep, Domain, Particles, Setup, Wall};
 use rand::RngExt;
@@ -23,18 +23,6 @@ pub struct Assembled {
     pub steps: u64,
 }
 
-fn err(key: impl Into<String>, value: impl Shown, allowed: impl Into<String>) -> InputError {
-    InputError::new(key, value, allowed)
-}
-
-fn finite_positive(key: &str, v: f64) -> Result<(), InputError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(err(key, v, "must be a finite number > 0"))
-    }
-}
-
 /// Validates and assembles. `base` is the directory relative paths are read from.
 pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, InputError> {
     assemble_with(s, base, None)
@@ -48,7 +36,7 @@ fn material_index(s: &Scenario, key: &str, name: &str) -> Result<u16, InputError
         .map(|k| k as u16)
         .ok_or_else(|| {
             let names: Vec<&str> = s.materials.iter().map(|m| m.name.as_str()).collect();
-            err(
+            InputError::new(
                 key,
                 format!("\"{name}\""),
                 format!("must be one of {names:?}"),
@@ -80,7 +68,7 @@ pub fn assemble_with(
     };
     for (k, (a, b)) in ["x", "y"].iter().zip(s.domain.lo.iter().zip(&s.domain.hi)) {
         if !(a.is_finite() && b.is_finite() && b > a) {
-            return Err(err(
+            return Err(InputError::new(
                 format!("domain.hi.{k}"),
                 b,
                 format!("must be finite and greater than domain.lo.{k} = {a}"),
@@ -88,7 +76,7 @@ pub fn assemble_with(
         }
     }
     if s.materials.is_empty() {
-        return Err(err(
+        return Err(InputError::new(
             "material",
             "(none)",
             "at least one [[material]] is required",
@@ -96,7 +84,7 @@ pub fn assemble_with(
     }
     for (k, m) in s.materials.iter().enumerate() {
         if s.materials[..k].iter().any(|o| o.name == m.name) {
-            return Err(err(
+            return Err(InputError::new(
                 "material.name",
                 format!("\"{}\"", m.name),
                 "names must be unique",
@@ -105,7 +93,11 @@ pub fn assemble_with(
     }
     for (k, g) in s.gravity.iter().enumerate() {
         if !g.is_finite() {
-            return Err(err(format!("gravity[{k}]"), g, "must be finite"));
+            return Err(InputError::new(
+                format!("gravity[{k}]"),
+                g,
+                "must be finite",
+            ));
         }
     }
 
@@ -118,7 +110,7 @@ pub fn assemble_with(
         .iter()
         .find(|&&m| m as usize >= s.materials.len())
     {
-        return Err(err(
+        return Err(InputError::new(
             "material",
             m as u64,
             format!(
@@ -128,7 +120,7 @@ pub fn assemble_with(
         ));
     }
     if particles.is_empty() {
-        return Err(err(
+        return Err(InputError::new(
             "particles",
             "(none)",
             "at least one particle is required",
@@ -142,7 +134,7 @@ pub fn assemble_with(
         match shape {
             grains_dem::WallShape::Segment { a, b } => {
                 if a == b || !a.iter().chain(&b).all(|v| v.is_finite()) {
-                    return Err(err(
+                    return Err(InputError::new(
                         format!("{key}.b"),
                         format!("{b:?}"),
                         "must be finite and differ from a",
@@ -150,9 +142,9 @@ pub fn assemble_with(
                 }
             }
             grains_dem::WallShape::Circle { radius, centre, .. } => {
-                finite_positive(&format!("{key}.radius"), radius)?;
+                positive(&format!("{key}.radius"), radius)?;
                 if !centre.iter().all(|v| v.is_finite()) {
-                    return Err(err(
+                    return Err(InputError::new(
                         format!("{key}.centre"),
                         format!("{centre:?}"),
                         "must be finite",
@@ -161,7 +153,7 @@ pub fn assemble_with(
             }
         }
         if s.walls[..w].iter().any(|o| o.name() == spec.name()) {
-            return Err(err(
+            return Err(InputError::new(
                 format!("{key}.name"),
                 format!("\"{}\"", spec.name()),
                 "wall names must be unique",
@@ -180,17 +172,21 @@ pub fn assemble_with(
 
     let mean_d = 2.0 * particles.radius.iter().sum::<f64>() / particles.len() as f64;
     let skin = s.run.skin.unwrap_or(0.1 * mean_d);
-    finite_positive("run.skin", skin)?;
-    finite_positive("run.duration", s.run.duration)?;
+    positive("run.skin", skin)?;
+    positive("run.duration", s.run.duration)?;
     if !(s.run.safety > 0.0 && s.run.safety <= 1.0) {
-        return Err(err("run.safety", s.run.safety, "must be in (0, 1]"));
+        return Err(InputError::new(
+            "run.safety",
+            s.run.safety,
+            "must be in (0, 1]",
+        ));
     }
     if let Some(r) = s.run.stop_kinetic_ratio {
-        finite_positive("run.stop_kinetic_ratio", r)?;
+        positive("run.stop_kinetic_ratio", r)?;
     }
     s.output.validate(&super::CAPABILITIES, s.run.duration)?;
     if let Some(t) = s.run.stop_rest_time {
-        finite_positive("run.stop_rest_time", t)?;
+        positive("run.stop_rest_time", t)?;
     }
     let setup = Setup::new(
         domain,
@@ -203,9 +199,9 @@ pub fn assemble_with(
     let dt_critical = timestep::critical_dt(&setup, &particles);
     let dt = match s.run.dt {
         Some(dt) => {
-            finite_positive("run.dt", dt)?;
+            positive("run.dt", dt)?;
             if dt > dt_critical {
-                return Err(err(
+                return Err(InputError::new(
                     "run.dt",
                     dt,
                     format!("above the stable limit {dt_critical:.4e} s (stiffest contact, lightest particle)"),
@@ -239,7 +235,7 @@ fn check_inside(setup: &Setup, p: &Particles) -> Result<(), InputError> {
         for (a, axis) in ["x", "y"].iter().enumerate() {
             let inside = x[a] >= d.lo[a] && x[a] <= d.hi[a];
             if !d.periodic[a] && !inside {
-                return Err(err(
+                return Err(InputError::new(
                     format!("particle {} at ({}, {})", p.id[i], x.x.shown(), x.y.shown()),
                     format!("{axis} = {}", x[a].shown()),
                     format!(
@@ -266,14 +262,14 @@ fn add_group(
     let mut push =
         |mat: u16, at: DVec2, r: f64, v: DVec2, w: f64, what: &str| -> Result<(), InputError> {
             if !(r.is_finite() && r > 0.0) {
-                return Err(err(
+                return Err(InputError::new(
                     format!("{key}.{what}.radius"),
                     r,
                     "must be a finite number > 0",
                 ));
             }
             if !at.is_finite() || !v.is_finite() || !w.is_finite() {
-                return Err(err(
+                return Err(InputError::new(
                     format!("{key}.{what}"),
                     format!("{at:?}"),
                     "position and velocity must be finite",
@@ -311,23 +307,27 @@ fn add_group(
                 RadiusSpec::Constant { value } => (value, value),
                 RadiusSpec::Uniform { min, max } => (min, max),
             };
-            finite_positive(&format!("{key}.radius.min"), rmin)?;
+            positive(&format!("{key}.radius.min"), rmin)?;
             if !(rmax.is_finite() && rmax >= rmin) {
-                return Err(err(
+                return Err(InputError::new(
                     format!("{key}.radius.max"),
                     rmax,
                     format!("must be >= radius.min = {rmin}"),
                 ));
             }
             if !(spacing.is_finite() && *spacing >= 1.0) {
-                return Err(err(
+                return Err(InputError::new(
                     format!("{key}.spacing"),
                     spacing,
                     "must be >= 1 (disks would overlap)",
                 ));
             }
             if !(speed.is_finite() && *speed >= 0.0) {
-                return Err(err(format!("{key}.speed"), speed, "must be >= 0"));
+                return Err(InputError::new(
+                    format!("{key}.speed"),
+                    speed,
+                    "must be >= 0",
+                ));
             }
             let pitch = 2.0 * rmax * spacing;
             let lo = DVec2::from(region.lo);
@@ -340,7 +340,7 @@ fn add_group(
                 0
             };
             if *count == 0 || *count > capacity {
-                return Err(err(
+                return Err(InputError::new(
                     format!("{key}.count"),
                     count,
                     format!("must be in 1..={capacity} (what the region holds at this spacing)"),
@@ -372,7 +372,7 @@ fn add_group(
             let mat = material_index(&format!("{key}.material"), material)?;
             let full = base.join(path);
             let data = grains_core::lammps_data::read(&full).map_err(|e| {
-                err(
+                InputError::new(
                     format!("{key}.path"),
                     format!("\"{}\"", full.display()),
                     format!("must be a LAMMPS atom_style sphere data file: {e}"),
@@ -398,7 +398,7 @@ fn add_group(
             let mat = material_index(&format!("{key}.material"), material)?;
             let full = base.join(path);
             let text = std::fs::read_to_string(&full).map_err(|e| {
-                err(
+                InputError::new(
                     format!("{key}.path"),
                     format!("\"{}\"", full.display()),
                     format!("cannot be read: {e}"),
@@ -414,14 +414,14 @@ fn add_group(
                     .map(str::parse)
                     .collect::<Result<_, _>>()
                     .map_err(|_| {
-                        err(
+                        InputError::new(
                             format!("{key}.path"),
                             format!("\"{}\" line {}", full.display(), ln + 1),
                             "each line must hold three numbers: x y r",
                         )
                     })?;
                 if v.len() != 3 {
-                    return Err(err(
+                    return Err(InputError::new(
                         format!("{key}.path"),
                         format!("\"{}\" line {}", full.display(), ln + 1),
                         "each line must hold three numbers: x y r",
@@ -446,7 +446,7 @@ fn check_periodic(setup: &Setup, p: &Particles) -> Result<(), InputError> {
     let len = setup.domain.length();
     for (a, k) in ["x", "y"].iter().enumerate() {
         if setup.domain.periodic[a] && len[a] < 2.0 * cut {
-            return Err(err(
+            return Err(InputError::new(
                 format!("domain.hi.{k}"),
                 setup.domain.hi[a],
                 format!(
@@ -464,7 +464,7 @@ fn check_wall_overlaps(setup: &Setup, p: &Particles) -> Result<(), InputError> {
         for (w, wall) in setup.walls.iter().enumerate() {
             if let Some(overlap) = grains_dem::diagnostics::wall_overlap(setup, p, i, w) {
                 if overlap > p.radius[i] {
-                    return Err(err(
+                    return Err(InputError::new(
                         format!(
                             "particle {} at ({:.6e}, {:.6e})",
                             p.id[i], p.pos[i].x, p.pos[i].y
@@ -489,7 +489,7 @@ fn check_references(s: &Scenario, setup: &Setup, p: &Particles) -> Result<(), In
             Ok(())
         } else {
             let names: Vec<&str> = setup.walls.iter().map(|w| w.name.as_str()).collect();
-            Err(err(
+            Err(InputError::new(
                 format!("check[{k}].wall"),
                 format!("\"{name}\""),
                 format!("must name a wall, one of {names:?}"),
@@ -500,7 +500,7 @@ fn check_references(s: &Scenario, setup: &Setup, p: &Particles) -> Result<(), In
         if id < n {
             Ok(())
         } else {
-            Err(err(
+            Err(InputError::new(
                 format!("check[{k}].particles"),
                 id,
                 format!("must be a particle id in 0..{n}"),
@@ -510,7 +510,7 @@ fn check_references(s: &Scenario, setup: &Setup, p: &Particles) -> Result<(), In
     for (k, c) in s.checks.iter().enumerate() {
         let tol = c.tolerance();
         if !(tol.is_finite() && tol > 0.0) {
-            return Err(err(
+            return Err(InputError::new(
                 format!("check[{k}].tolerance"),
                 tol,
                 "must be a finite number > 0",
@@ -521,7 +521,7 @@ fn check_references(s: &Scenario, setup: &Setup, p: &Particles) -> Result<(), In
                 particle(k, particles[0])?;
                 particle(k, particles[1])?;
                 if particles[0] == particles[1] {
-                    return Err(err(
+                    return Err(InputError::new(
                         format!("check[{k}].particles"),
                         format!("{particles:?}"),
                         "must name two different particles",
@@ -544,7 +544,7 @@ fn check_references(s: &Scenario, setup: &Setup, p: &Particles) -> Result<(), In
             CheckSpec::WallForceOverWeight { wall: w, .. } => {
                 wall(k, w)?;
                 if setup.gravity == DVec2::ZERO {
-                    return Err(err(
+                    return Err(InputError::new(
                         "gravity",
                         "[0, 0]",
                         format!("check[{k}] needs non-zero gravity"),
@@ -556,7 +556,11 @@ fn check_references(s: &Scenario, setup: &Setup, p: &Particles) -> Result<(), In
     for (k, f) in s.figures.iter().enumerate() {
         if let FigureSpec::PackingFraction { margin, .. } = f {
             if !(margin.is_finite() && *margin >= 0.0) {
-                return Err(err(format!("figure[{k}].margin"), margin, "must be >= 0"));
+                return Err(InputError::new(
+                    format!("figure[{k}].margin"),
+                    margin,
+                    "must be >= 0",
+                ));
             }
         }
     }

@@ -76,29 +76,18 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
             a.setup.materials.len().to_string(),
         ),
         Line::new("walls", walls, walls.to_string()),
-        Line::new(
-            "dt",
-            a.dt,
-            format!(
-                "{:.4e} s ({:.3} of the stable limit {:.4e} s)",
-                a.dt,
-                a.dt / a.dt_critical,
-                a.dt_critical
-            ),
-        ),
-        Line::quiet("dt_critical", a.dt_critical),
-        Line::new(
-            "duration",
-            s.run.duration,
-            format!("{:.4e} s", s.run.duration),
-        ),
-        Line::new(
-            "steps",
-            a.steps,
-            format!("{} (exact: the step is fixed)", a.steps),
-        ),
-        Line::new("skin", a.setup.skin, format!("{:.4e} m", a.setup.skin)),
     ]);
+    d.lines.extend(Derived::fixed_step(
+        a.dt,
+        a.dt_critical,
+        s.run.duration,
+        a.steps,
+    ));
+    d.lines.push(Line::new(
+        "skin",
+        a.setup.skin,
+        format!("{:.4e} m", a.setup.skin),
+    ));
     d.cost(&cost(n, walls, a.steps, threads));
     Ok(d)
 }

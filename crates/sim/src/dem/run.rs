@@ -8,7 +8,7 @@ use super::rest::RestDetector;
 use super::scenario::Scenario;
 use super::{plots, Dem, CAPABILITIES};
 use crate::checkpoint::{self, Progress as Saved};
-use crate::driver::{restore_observers, Counters, Every, Horizon, Observer, Plan, Report, Status};
+use crate::driver::{restore_observers, Counters, Every, Observer, Report, Status};
 use crate::frames::{FrameRecorder, Snapshots};
 use crate::history::HistoryRecorder;
 use crate::run::{drive, finish, fresh_out, summary, Costs, Finished, RunError, RunOptions};
@@ -39,18 +39,6 @@ pub fn load_checkpoint(s: &Scenario, src: &Source, dir: &Path) -> Result<Resume,
     Ok(Resume { progress, state })
 }
 
-/// The schedule of a run of `steps` steps.
-pub fn plan(s: &Scenario, steps: u64) -> Plan {
-    let o = &s.output;
-    Plan {
-        horizon: Horizon::Steps(steps),
-        samples: Every::Steps((steps / o.history(&CAPABILITIES).max(1)).max(1)),
-        frames: Every::Steps((steps / o.frames(&CAPABILITIES).max(1)).max(1)),
-        snapshots: o.snapshot_times(),
-        checkpoint_every: o.checkpoint_every,
-    }
-}
-
 /// Runs `s` (read from `src`) into `opts.out`, or continues it from `resume`.
 pub fn run(
     s: &Scenario,
@@ -79,7 +67,7 @@ pub fn run(
             (dem, steps, dt_critical)
         }
     };
-    let plan = plan(s, steps);
+    let plan = s.output.plan_by_steps(&CAPABILITIES, steps);
     opts.progress.announce(&format!(
         "{}{} (dem) — {} particles, dt = {:.3e} s, {} steps, {} threads → {}",
         if resume.is_some() { "resuming " } else { "" },

@@ -3,7 +3,7 @@
 
 use super::scenario::{CheckSpec, LawName, Scenario};
 use glam::DVec2;
-use grains_core::input::{InputError, Shown};
+use grains_core::input::{positive, InputError, Shown};
 use grains_mpm::{
     timestep, Body, ContactLaw, ContactTable, Grid, Motion, Particles, Setup, ShapeFunction,
     UpdateScheme,
@@ -29,29 +29,21 @@ pub struct Assembled {
     pub steps: u64,
 }
 
-fn err(key: impl Into<String>, value: impl Shown, allowed: impl Into<String>) -> InputError {
-    InputError::new(key, value, allowed)
-}
-
-fn positive(key: &str, v: f64) -> Result<(), InputError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(err(key, v, "must be a finite number > 0"))
-    }
-}
-
 fn law(key: &str, name: LawName, mu: Option<f64>) -> Result<ContactLaw, InputError> {
     match (name, mu) {
         (LawName::Coulomb, mu) => {
             let mu = mu.unwrap_or(0.0);
             if !(mu.is_finite() && mu >= 0.0) {
-                return Err(err(format!("{key}.mu"), mu, "must be a finite number >= 0"));
+                return Err(InputError::new(
+                    format!("{key}.mu"),
+                    mu,
+                    "must be a finite number >= 0",
+                ));
             }
             Ok(ContactLaw::Coulomb { mu })
         }
         (LawName::NoSlip, None) => Ok(ContactLaw::NoSlip),
-        (LawName::NoSlip, Some(mu)) => Err(err(
+        (LawName::NoSlip, Some(mu)) => Err(InputError::new(
             format!("{key}.mu"),
             mu,
             "only a \"coulomb\" law takes a friction coefficient",
@@ -62,7 +54,7 @@ fn law(key: &str, name: LawName, mu: Option<f64>) -> Result<ContactLaw, InputErr
 /// Validates and assembles.
 pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     if s.engine != "mpm" {
-        return Err(err(
+        return Err(InputError::new(
             "engine",
             format!("\"{}\"", s.engine),
             "must be \"mpm\" here",
@@ -74,7 +66,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     for (k, axis) in ["x", "y"].iter().enumerate() {
         let (a, b) = (g.lo[k], g.hi[k]);
         if !(a.is_finite() && b.is_finite() && b > a) {
-            return Err(err(
+            return Err(InputError::new(
                 format!("grid.hi.{axis}"),
                 b,
                 format!("must be finite and greater than grid.lo.{axis} = {a}"),
@@ -82,7 +74,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         }
         let n = (b - a) / g.cell_size;
         if (n - n.round()).abs() > 1e-6 * n.max(1.0) || n.round() < 2.0 || n > 1e5 {
-            return Err(err(
+            return Err(InputError::new(
                 "grid.cell_size",
                 g.cell_size,
                 format!(
@@ -94,7 +86,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         cells[k] = n.round() as usize;
     }
     if !(1..=8).contains(&g.particles_per_cell) {
-        return Err(err(
+        return Err(InputError::new(
             "grid.particles_per_cell",
             g.particles_per_cell,
             "must be 1 to 8 (points per cell along each axis)",
@@ -110,7 +102,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         "gimp" => ShapeFunction::Gimp,
         "bspline2" => ShapeFunction::Bspline2,
         other => {
-            return Err(err(
+            return Err(InputError::new(
                 "method.shape",
                 format!("\"{other}\""),
                 format!("unknown shape function; must be {}", ShapeFunction::NAMES),
@@ -123,7 +115,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         "usavg" => UpdateScheme::Usavg,
         "musl" => UpdateScheme::Musl,
         other => {
-            return Err(err(
+            return Err(InputError::new(
                 "method.update",
                 format!("\"{other}\""),
                 format!("unknown update scheme; must be {}", UpdateScheme::NAMES),
@@ -131,7 +123,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         }
     };
     if s.materials.is_empty() {
-        return Err(err(
+        return Err(InputError::new(
             "material",
             "(none)",
             "at least one [[material]] is required",
@@ -139,7 +131,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     }
     for (k, m) in s.materials.iter().enumerate() {
         if s.materials[..k].iter().any(|o| o.name() == m.name()) {
-            return Err(err(
+            return Err(InputError::new(
                 format!("material[{k}].name"),
                 format!("\"{}\"", m.name()),
                 "names must be unique",
@@ -151,12 +143,16 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         positive(&format!("material[{k}].shear"), shear)?;
     }
     if s.bodies.is_empty() {
-        return Err(err("body", "(none)", "at least one [[body]] is required"));
+        return Err(InputError::new(
+            "body",
+            "(none)",
+            "at least one [[body]] is required",
+        ));
     }
     let names: Vec<&str> = s.bodies.iter().map(|b| b.name.as_str()).collect();
     let body_index = |key: &str, name: &str| -> Result<usize, InputError> {
         names.iter().position(|n| *n == name).ok_or_else(|| {
-            err(
+            InputError::new(
                 key,
                 format!("\"{name}\""),
                 format!("must be one of {names:?}"),
@@ -170,7 +166,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     for (k, b) in s.bodies.iter().enumerate() {
         let key = format!("body[{k}]");
         if names[..k].contains(&b.name.as_str()) || b.name.is_empty() {
-            return Err(err(
+            return Err(InputError::new(
                 format!("{key}.name"),
                 format!("\"{}\"", b.name),
                 "names must be unique and non-empty",
@@ -182,18 +178,18 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
             .position(|m| m.name() == b.material)
             .ok_or_else(|| {
                 let m: Vec<&str> = s.materials.iter().map(|m| m.name()).collect();
-                err(
+                InputError::new(
                     format!("{key}.material"),
                     format!("\"{}\"", b.material),
                     format!("must be one of {m:?}"),
                 )
             })?;
-        b.geometry
-            .validate()
-            .map_err(|e| err(format!("{key}.geometry"), e, "check the shape's parameters"))?;
+        b.geometry.validate().map_err(|e| {
+            InputError::new(format!("{key}.geometry"), e, "check the shape's parameters")
+        })?;
         let v = DVec2::from(b.velocity);
         if !v.is_finite() {
-            return Err(err(
+            return Err(InputError::new(
                 format!("{key}.velocity"),
                 format!("{:?}", b.velocity),
                 "must be finite",
@@ -201,14 +197,14 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         }
         let points = b.geometry.fill(grid.lo, pitch);
         if points.is_empty() {
-            return Err(err(
+            return Err(InputError::new(
                 format!("{key}.geometry"),
                 format!("{:?}", b.geometry),
                 format!("holds no material point at this resolution (point pitch {pitch:e} m); enlarge the body or refine the grid"),
             ));
         }
         if let Some(x) = points.iter().find(|x| !grid.contains(**x)) {
-            return Err(err(
+            return Err(InputError::new(
                 format!("{key}.geometry"),
                 format!("point at ({:e}, {:e})", x.x, x.y),
                 format!(
@@ -227,7 +223,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
                 let o = &s.bodies[other];
                 let fused = b.rigid && o.rigid && o.velocity == b.velocity;
                 if other != k && !fused {
-                    return Err(err(
+                    return Err(InputError::new(
                         format!("{key}.geometry"),
                         format!("{:?}", b.geometry),
                         format!(
@@ -263,7 +259,11 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         counts.push(points.len());
     }
     if s.bodies.len() > u16::MAX as usize {
-        return Err(err("body", s.bodies.len(), "at most 65535 bodies"));
+        return Err(InputError::new(
+            "body",
+            s.bodies.len(),
+            "at most 65535 bodies",
+        ));
     }
     let mut contact =
         ContactTable::new(s.bodies.len(), law("contact", s.contact.law, s.contact.mu)?);
@@ -272,7 +272,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         let a = body_index(&format!("{key}.bodies"), &p.bodies[0])?;
         let b = body_index(&format!("{key}.bodies"), &p.bodies[1])?;
         if a == b {
-            return Err(err(
+            return Err(InputError::new(
                 format!("{key}.bodies"),
                 format!("{:?}", p.bodies),
                 "must name two different bodies",
@@ -281,7 +281,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         contact.set(a, b, law(&key, p.law, p.mu)?);
     }
     if contact.distinct() > 255 {
-        return Err(err(
+        return Err(InputError::new(
             "contact.pair",
             s.contact.pair.len(),
             "at most 255 distinct laws",
@@ -290,7 +290,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     let sides = [&s.walls.left, &s.walls.right, &s.walls.bottom, &s.walls.top];
     let walls = sides.map(|w| w.map(|w| w.mu));
     if !(s.method.flip.is_finite() && (0.0..=1.0).contains(&s.method.flip)) {
-        return Err(err(
+        return Err(InputError::new(
             "method.flip",
             s.method.flip,
             "must be in [0, 1] (1 = FLIP, 0 = PIC)",
@@ -298,11 +298,19 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     }
     positive("run.duration", s.run.duration)?;
     if !(s.run.safety > 0.0 && s.run.safety <= 1.0) {
-        return Err(err("run.safety", s.run.safety, "must be in (0, 1]"));
+        return Err(InputError::new(
+            "run.safety",
+            s.run.safety,
+            "must be in (0, 1]",
+        ));
     }
     let f = s.contact.separation_factor;
     if !(f.is_finite() && (0.5..=4.0).contains(&f)) {
-        return Err(err("contact.separation_factor", f, "must be in [0.5, 4]"));
+        return Err(InputError::new(
+            "contact.separation_factor",
+            f,
+            "must be in [0.5, 4]",
+        ));
     }
     let separation = s.contact.separation_test.then(|| {
         grains_mpm::contact::touching_separation(shape, g.particles_per_cell) * f * g.cell_size
@@ -327,7 +335,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         Some(dt) => {
             positive("run.dt", dt)?;
             if dt > dt_critical {
-                return Err(err(
+                return Err(InputError::new(
                     "run.dt",
                     dt,
                     format!(
@@ -359,7 +367,7 @@ fn check_references(s: &Scenario, names: &[&str]) -> Result<(), InputError> {
         let key = format!("check[{k}]");
         if let Some(b) = c.body() {
             if !names.contains(&b) {
-                return Err(err(
+                return Err(InputError::new(
                     format!("{key}.body"),
                     format!("\"{b}\""),
                     format!("must be one of {names:?}"),
@@ -385,7 +393,7 @@ fn check_references(s: &Scenario, names: &[&str]) -> Result<(), InputError> {
             CheckSpec::InitialMomentum { component, .. }
                 if component != "x" && component != "y" =>
             {
-                return Err(err(
+                return Err(InputError::new(
                     format!("{key}.component"),
                     format!("\"{component}\""),
                     "must be \"x\" or \"y\"",
@@ -397,7 +405,7 @@ fn check_references(s: &Scenario, names: &[&str]) -> Result<(), InputError> {
             | CheckSpec::EnergyLossBelowReference {
                 after_impact: 0, ..
             } => {
-                return Err(err(
+                return Err(InputError::new(
                     format!("{key}.after_impact"),
                     0,
                     "impacts count from 1",
@@ -405,11 +413,15 @@ fn check_references(s: &Scenario, names: &[&str]) -> Result<(), InputError> {
             }
             CheckSpec::ImpactTangentialVelocity { impact: 0, .. }
             | CheckSpec::ImpactSpin { impact: 0, .. } => {
-                return Err(err(format!("{key}.impact"), 0, "impacts count from 1"));
+                return Err(InputError::new(
+                    format!("{key}.impact"),
+                    0,
+                    "impacts count from 1",
+                ));
             }
             CheckSpec::Acceleration { on, normal, .. } => {
                 if !names.contains(&on.as_str()) {
-                    return Err(err(
+                    return Err(InputError::new(
                         format!("{key}.on"),
                         format!("\"{on}\""),
                         format!("must be one of {names:?}"),
@@ -417,14 +429,18 @@ fn check_references(s: &Scenario, names: &[&str]) -> Result<(), InputError> {
                 }
                 let n = DVec2::from(*normal);
                 if !(n.is_finite() && n.length() > 0.0) {
-                    return Err(err(
+                    return Err(InputError::new(
                         format!("{key}.normal"),
                         format!("{normal:?}"),
                         "must be a finite non-zero vector",
                     ));
                 }
                 if s.gravity == [0.0, 0.0] {
-                    return Err(err("gravity", "[0, 0]", format!("{key} needs gravity")));
+                    return Err(InputError::new(
+                        "gravity",
+                        "[0, 0]",
+                        format!("{key} needs gravity"),
+                    ));
                 }
             }
             _ => {}

@@ -106,36 +106,13 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
         c,
         format!("{c:.4e} m/s (plane-strain dilatational, fastest material)"),
     ));
-    d.lines.extend([
-        Line::new(
-            "dt",
-            a.dt,
-            format!(
-                "{:.4e} s ({:.3} of the stable limit {:.4e} s)",
-                a.dt,
-                a.dt / a.dt_critical,
-                a.dt_critical
-            ),
-        ),
-        Line::quiet("dt_critical", a.dt_critical),
-        Line::new(
-            "duration",
-            s.run.duration,
-            format!("{:.4e} s", s.run.duration),
-        ),
-        Line::new(
-            "steps",
-            a.steps,
-            format!("{} (exact: the step is fixed)", a.steps),
-        ),
-    ]);
-    let nodes = (setup.grid.stored()[0] * setup.grid.stored()[1]) as u64;
-    d.cost(&Estimate::new(
-        n,
+    d.lines.extend(Derived::fixed_step(
+        a.dt,
+        a.dt_critical,
+        s.run.duration,
         a.steps,
-        memory(n, nodes),
-        rate::MPM,
-        threads,
     ));
+    let nodes = (setup.grid.stored()[0] * setup.grid.stored()[1]) as u64;
+    d.cost(&cost(n, nodes, a.steps, threads));
     Ok(d)
 }

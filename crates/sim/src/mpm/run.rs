@@ -5,7 +5,7 @@ use super::assemble::{assemble, Assembled};
 use super::scenario::{CheckSpec, Scenario};
 use super::watch::Watch;
 use super::{plots, Mpm, MpmSample, CAPABILITIES};
-use crate::driver::{self, Counters, Every, Horizon, Observer, Plan, Silent};
+use crate::driver::{self, Counters, Observer, Plan, Silent};
 use crate::frames::FrameRecorder;
 use crate::history::{HistoryRecorder, Recorded};
 use crate::run::{drive, finish, fresh_out, summary, Costs, Finished, RunError, RunOptions};
@@ -83,18 +83,6 @@ impl Recorded for Mpm {
     }
 }
 
-/// The schedule of a run of `steps` steps.
-fn plan(s: &Scenario, steps: u64) -> Plan {
-    let o = &s.output;
-    Plan {
-        horizon: Horizon::Steps(steps),
-        samples: Every::Steps((steps / o.history(&CAPABILITIES).max(1)).max(1)),
-        frames: Every::Steps((steps / o.frames(&CAPABILITIES).max(1)).max(1)),
-        snapshots: o.snapshot_times(),
-        checkpoint_every: None,
-    }
-}
-
 /// Parses, validates (including any reference scenario a check names) and assembles.
 pub fn prepare(s: &Scenario, src: &Source) -> Result<Assembled, String> {
     let a = assemble(s).map_err(|e| format!("{}: {e}", src.origin))?;
@@ -153,7 +141,7 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
         .expect("the history took the first sample");
     let mut frames = FrameRecorder::create(&out, &sim).map_err(anyhow::Error::from)?;
     let mut watch = Watch::new(&sim, &a, s, src.base.clone(), &first, true);
-    let plan = plan(s, a.steps);
+    let plan = s.output.plan_by_steps(&CAPABILITIES, a.steps);
     let outcome = {
         let mut observers: Vec<&mut dyn Observer<Mpm>> =
             vec![&mut history, &mut frames, &mut watch];
@@ -204,7 +192,7 @@ pub fn reference_loss(path: &Path, body: &str, k: usize) -> anyhow::Result<f64> 
     let mut watch = Watch::new(&sim, &a, &s, src.base.clone(), &first, false);
     let plan = Plan {
         snapshots: Vec::new(),
-        ..plan(&s, a.steps)
+        ..s.output.plan_by_steps(&CAPABILITIES, a.steps)
     };
     let mut control = driver::Control {
         stop_at_step: None,
