@@ -5,10 +5,12 @@
 //! bodies' (n_b ∝ g_b − g_rest), so two bodies get equal and opposite corrections and
 //! momentum is conserved. Rigid bodies take the place of the centre of mass, and their
 //! mass gradient gives the normal. The domain
-//! edges are walls with exact normals and the same law.
+//! edges are walls with exact normals and the same law. Bonded pairs follow
+//! [`crate::bond`].
 
+use crate::bond;
 use crate::grid::{Grid, GHOST};
-use crate::nodes::{GlobalNode, Node, Patch};
+use crate::nodes::{GlobalBond, GlobalNode, Node, Patch};
 use crate::setup::{ContactLaw, ContactTable};
 use crate::shape::{Bspline2, Gimp, Kernel, Linear, ShapeFunction};
 use glam::DVec2;
@@ -28,7 +30,7 @@ pub enum Pass {
 pub fn coulomb(dp: DVec2, n: DVec2, law: ContactLaw) -> Option<DVec2> {
     match law {
         ContactLaw::NoSlip => Some(dp),
-        ContactLaw::Coulomb { mu } => {
+        ContactLaw::Coulomb { mu } | ContactLaw::Bonded { mu, .. } => {
             let dn = dp.dot(n);
             if dn >= 0.0 {
                 return None;
@@ -54,6 +56,8 @@ pub struct Touch {
     pub partner: Option<u16>,
     /// Walls touched: bit k for side k (left, right, bottom, top).
     pub walls: u8,
+    /// Nodes where a bond failed.
+    pub debonded: u32,
 }
 
 impl Touch {
@@ -63,8 +67,24 @@ impl Touch {
             body_nodes: self.body_nodes + o.body_nodes,
             partner: o.partner.or(self.partner),
             walls: self.walls | o.walls,
+            debonded: self.debonded + o.debonded,
         }
     }
+}
+
+/// What one body's contact correction reads besides its own patch.
+#[derive(Clone, Copy)]
+pub struct Others<'a> {
+    /// The sums over bodies, column-major.
+    pub global: &'a [GlobalNode],
+    /// The bond sums, same indexing (empty without bonded laws).
+    pub bond: &'a [GlobalBond],
+    /// Stored rows of the global grid.
+    pub rows: usize,
+    /// Laws per pair.
+    pub table: &'a ContactTable,
+    /// Nairn's separation cut-off (see [`touching_separation`]).
+    pub separation: Option<f64>,
 }
 
 #[inline]
@@ -126,30 +146,33 @@ fn touching<K: Kernel>(per_cell: u32) -> f64 {
     body
 }
 
-/// Corrects body `b`'s patch against the other bodies summed in `global`. With
-/// `separation`, nodes where the two sides' material centroids are farther apart than
-/// that along the normal are left alone (the bodies are near, not touching).
-#[allow(clippy::too_many_arguments)]
+/// Corrects body `b`'s patch against the other bodies summed in `others.global`. With
+/// a separation cut-off, nodes where the two sides' material centroids are farther apart
+/// than that along the normal are left alone (the bodies are near, not touching). With
+/// `record`, nodes where a bond fails are marked in the patch (once per step: the first
+/// pass), so their points lose the bond.
 pub fn bodies(
     b: u16,
     patch: &mut Patch,
-    global: &[GlobalNode],
-    global_rows: usize,
-    table: &ContactTable,
-    separation: Option<f64>,
+    others: &Others,
     pass: Pass,
     dt: f64,
+    record: bool,
 ) -> Touch {
     let mut touch = Touch::default();
     let rows = patch.size[1];
     let inv_dt = 1.0 / dt;
     let keep = !patch.xs.is_empty();
+    let (table, separation) = (others.table, others.separation);
     for (c, col) in patch.nodes.chunks_mut(rows).enumerate() {
-        let gcol = &global[(patch.lo[0] + c) * global_rows + patch.lo[1]..][..rows];
+        let at = (patch.lo[0] + c) * others.rows + patch.lo[1];
+        let gcol = &others.global[at..][..rows];
         for (r, (n, g)) in col.iter_mut().zip(gcol).enumerate() {
             if g.count < 2 || n.m <= 0.0 {
                 continue;
             }
+            let partner = g.partner(b);
+            let law = table.get(b as usize, partner as usize);
             // A rigid body is the master surface: its own normal is used, because a
             // deformable body's corner (where its gradient tilts) would otherwise plough
             // into a flat rigid surface it slides on.
@@ -159,13 +182,37 @@ pub fn bodies(
                 (g.p * (n.m / g.m), 2.0 * n.g - g.g)
             };
             let len = normal.length();
-            if len == 0.0 || !len.is_finite() {
+            let defined = len > 0.0 && len.is_finite();
+            let normal = normal / len;
+            // A bond's state at this node: its strength, and the normal traction.
+            let bonded = match law {
+                ContactLaw::Bonded { strength, mu } => {
+                    let gb = &others.bond[at + r];
+                    let s = gb.strength.min(strength);
+                    let t = if defined {
+                        let [xx, yy, xy] = gb.ms.map(|x| x / g.m);
+                        let (nx, ny) = (normal.x, normal.y);
+                        nx * nx * xx + 2.0 * nx * ny * xy + ny * ny * yy
+                    } else {
+                        0.0
+                    };
+                    Some((s, t, mu))
+                }
+                _ => None,
+            };
+            if !defined {
+                // No normal: only an intact bond still acts (the fields move as one).
+                if bonded.is_some_and(|b| b.0 > 0.0) {
+                    apply(n, target - n.p, pass, inv_dt, 1);
+                    touch.body_nodes += 1;
+                    touch.partner = Some(partner);
+                }
                 continue;
             }
-            let normal = normal / len;
-            let partner = g.partner(b);
-            let law = table.get(b as usize, partner as usize);
-            if let (Some(cut), true, ContactLaw::Coulomb { .. }) = (separation, keep, law) {
+            let intact = bonded.is_some_and(|b| b.0 > 0.0);
+            if let (Some(cut), true, false) =
+                (separation, keep, intact || law == ContactLaw::NoSlip)
+            {
                 let mine = patch_x(&patch.xs, c * rows + r) / n.m;
                 let theirs = if g.m_rigid > 0.0 {
                     g.x_rigid / g.m_rigid
@@ -176,7 +223,18 @@ pub fn bodies(
                     continue;
                 }
             }
-            if let Some(dp) = coulomb(target - n.p, normal, law) {
+            let dp = match bonded {
+                Some((s, t, mu)) => {
+                    let (dp, failed) = bond::bonded(target - n.p, normal, t, s, mu);
+                    if failed && record {
+                        patch.bond[c * rows + r].failed = true;
+                        touch.debonded += 1;
+                    }
+                    dp
+                }
+                None => coulomb(target - n.p, normal, law),
+            };
+            if let Some(dp) = dp {
                 apply(n, dp, pass, inv_dt, 1);
                 touch.body_nodes += 1;
                 touch.partner = Some(partner);
@@ -288,7 +346,7 @@ mod tests {
             cells: [4, 4],
         };
         let mut patch = Patch::default();
-        patch.reset([0, 0], [3, 3], false);
+        patch.reset([0, 0], [3, 3], false, false);
         for n in &mut patch.nodes {
             n.m = 2.0;
             n.p = DVec2::new(-1.0, 0.4);

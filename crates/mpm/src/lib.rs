@@ -19,11 +19,13 @@
 // five or more fields would hide that, not clarify it.
 #![allow(clippy::needless_range_loop)]
 
+pub mod bond;
 pub mod contact;
 pub mod diagnostics;
 pub mod geometry;
 pub mod grid;
 pub mod material;
+pub mod models;
 pub mod nodes;
 pub mod particles;
 pub mod setup;
@@ -31,17 +33,20 @@ pub mod shape;
 mod simd;
 pub mod step;
 mod tasks;
+pub mod thermal;
 pub mod timestep;
 pub mod transfer;
 
 pub use contact::Touch;
 pub use geometry::Geometry;
 pub use grid::Grid;
-pub use material::{Material, Stress};
+pub use material::{Material, PronyTerm, Stress};
+pub use models::PointState;
 pub use particles::Particles;
 pub use setup::{Body, ContactLaw, ContactTable, Motion, Setup, SetupError, UpdateScheme};
 pub use shape::ShapeFunction;
 pub use step::{step, Solver, State, Unstable};
+pub use thermal::{TemperatureHistory, Thermal};
 
 /// Points per chunk of every reduction, fixed so sums do not depend on the thread count.
 pub const CHUNK: usize = 4096;

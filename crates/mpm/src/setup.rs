@@ -1,9 +1,12 @@
-//! The read-only description of an MPM run: grid, method options, materials, bodies,
-//! contact laws, walls, gravity and time step. Every stage reads it; none writes it.
+//! The read-only description of an MPM run: grid, method options, materials, bodies
+//! (with their temperature histories), contact laws, walls, gravity and time step. Every
+//! stage reads it; none writes it.
 
 use crate::grid::Grid;
 use crate::material::Material;
+use crate::particles::Particles;
 use crate::shape::ShapeFunction;
+use crate::thermal::TemperatureHistory;
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
@@ -46,6 +49,20 @@ pub struct Body {
     pub material: usize,
     /// Free or prescribed motion.
     pub motion: Motion,
+    /// Prescribed temperature (`None`: constant, no thermal strain).
+    pub temperature: Option<TemperatureHistory>,
+}
+
+impl Body {
+    /// A deformable body at constant temperature.
+    pub fn free(name: impl Into<String>, material: usize) -> Self {
+        Body {
+            name: name.into(),
+            material,
+            motion: Motion::Free,
+            temperature: None,
+        }
+    }
 }
 
 /// What happens where two bodies' velocity fields meet at a node.
@@ -60,6 +77,19 @@ pub enum ContactLaw {
     },
     /// One velocity field: the bodies move together (bonded, no slip, no separation).
     NoSlip,
+    /// Bonded up to a normal traction `strength`, then Coulomb with `mu` (Bardenhagen et
+    /// al. 1998): where the interface's normal traction is at most the bond it moves as
+    /// one body; where it exceeds the bond, the bond there fails for good (the points
+    /// remember it); a failed interface slides with friction μ when approaching or in
+    /// compression and separates freely otherwise. See [`crate::bond`].
+    Bonded {
+        /// Bond strength (Pa, normal traction in tension), ≥ 0. The bodies' points carry
+        /// it from the start ([`crate::State::new`]).
+        strength: f64,
+        /// Friction coefficient once debonded, ≥ 0.
+        #[serde(default)]
+        mu: f64,
+    },
 }
 
 /// Contact laws for every pair of bodies: a default and per-pair overrides.
@@ -102,6 +132,22 @@ impl ContactTable {
     /// Distinct laws in use (at most 255 kept apart).
     pub fn distinct(&self) -> usize {
         self.laws.len()
+    }
+
+    /// The distinct laws.
+    pub fn laws(&self) -> &[ContactLaw] {
+        &self.laws
+    }
+
+    /// The strongest bond body `b` has with any other body (0: none).
+    pub fn bond_of(&self, b: usize) -> f64 {
+        (0..self.bodies)
+            .filter(|&c| c != b)
+            .map(|c| match self.get(b, c) {
+                ContactLaw::Bonded { strength, .. } => strength,
+                _ => 0.0,
+            })
+            .fold(0.0, f64::max)
     }
 }
 
@@ -202,10 +248,7 @@ impl Setup {
             ));
         }
         for (k, m) in self.materials.iter().enumerate() {
-            positive(format!("material[{k}].density"), m.density())?;
-            let (bulk, shear) = m.moduli();
-            positive(format!("material[{k}].bulk"), bulk)?;
-            positive(format!("material[{k}].shear"), shear)?;
+            m.validate(&format!("material[{k}]"))?;
         }
         if self.bodies.is_empty() || self.bodies.len() > u16::MAX as usize {
             return Err(SetupError::new(
@@ -230,6 +273,44 @@ impl Setup {
                         "must be finite",
                     ));
                 }
+            }
+            if let Some(h) = &b.temperature {
+                h.validate(&format!("body[{k}].temperature"))?;
+            }
+        }
+        for law in self.contact.laws() {
+            match *law {
+                ContactLaw::Coulomb { mu } if !(mu.is_finite() && mu >= 0.0) => {
+                    return Err(SetupError::new(
+                        "contact.mu",
+                        mu,
+                        "must be a finite number >= 0",
+                    ));
+                }
+                ContactLaw::Bonded { strength, mu } => {
+                    if !(strength.is_finite() && strength >= 0.0) {
+                        return Err(SetupError::new(
+                            "contact.strength",
+                            strength,
+                            "must be a finite number >= 0",
+                        ));
+                    }
+                    if !(mu.is_finite() && mu >= 0.0) {
+                        return Err(SetupError::new(
+                            "contact.mu",
+                            mu,
+                            "must be a finite number >= 0",
+                        ));
+                    }
+                    if self.bodies.len() < 2 {
+                        return Err(SetupError::new(
+                            "contact.strength",
+                            strength,
+                            "a bond needs two bodies; there is only one",
+                        ));
+                    }
+                }
+                _ => {}
             }
         }
         for (k, w) in self.walls.iter().enumerate() {
@@ -257,5 +338,36 @@ impl Setup {
     /// True if some node can hold two bodies' fields, i.e. contact must be resolved.
     pub fn multi_body(&self) -> bool {
         self.bodies.len() > 1
+    }
+
+    /// True if some pair of bodies is bonded.
+    pub fn bonds(&self) -> bool {
+        self.multi_body()
+            && self
+                .contact
+                .laws()
+                .iter()
+                .any(|l| matches!(l, ContactLaw::Bonded { .. }))
+    }
+
+    /// Maxwell branches each point must store: the most any body's material has.
+    pub fn branch_width(&self) -> usize {
+        self.bodies
+            .iter()
+            .map(|b| self.materials[b.material].branches())
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// Gives every point the bond strength of its body ([`ContactTable::bond_of`]) and
+    /// the storage its material's state needs.
+    pub fn prepare_points(&self, p: &mut Particles) {
+        p.set_branch_width(self.branch_width());
+        let bond: Vec<f64> = (0..self.bodies.len())
+            .map(|b| self.contact.bond_of(b))
+            .collect();
+        for i in 0..p.len() {
+            p.bond[i] = bond[p.body[i] as usize];
+        }
     }
 }

@@ -230,6 +230,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, SetupError> {
             } else {
                 Motion::Free
             },
+            temperature: None,
         });
         areas.push(area);
         velocities.push(v);

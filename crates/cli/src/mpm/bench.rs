@@ -75,12 +75,14 @@ pub fn setup(o: &Options) -> Result<(Setup, Particles), String> {
         density: 1.0,
         bulk: 200.0,
         shear: 100.0,
+        expansion: 0.0,
     };
     let bodies = (0..o.bodies)
         .map(|b| Body {
             name: format!("block{b}"),
             material: 0,
             motion: Motion::Free,
+            temperature: None,
         })
         .collect();
     let s = Setup {
