@@ -36,14 +36,19 @@ pub struct Kin {
 }
 
 /// What a bonded interface needs at one node of one body: Σ S m σ (for the normal
-/// traction), the strongest bond among the points that reach the node, and whether the
-/// bond failed here this step.
+/// traction of the stresses), the strongest bond among the points that reach the node,
+/// the normal force the intact bond carries and the interface length the node stands for,
+/// and whether the bond failed here this step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BondNode {
     /// Σ S m (σ_xx, σ_yy, σ_xy).
     pub ms: [f64; 3],
     /// Largest bond strength of the points with weight here (Pa).
     pub strength: f64,
+    /// Normal force (tension > 0, N per unit thickness) the intact bond must carry.
+    pub force: f64,
+    /// Interface length the node stands for (m).
+    pub length: f64,
     /// The bond failed at this node this step: its points lose their bond.
     pub failed: bool,
 }
@@ -145,6 +150,13 @@ pub struct GlobalBond {
     pub ms: [f64; 3],
     /// Largest bond of any point reaching the node.
     pub strength: f64,
+    /// Σ normal force over bodies.
+    pub force: f64,
+    /// Σ interface length over bodies.
+    pub length: f64,
+    /// The normal traction of the intact bond, smoothed along the interface
+    /// ([`crate::bond::smooth`]).
+    pub traction: f64,
 }
 
 /// The whole grid's sums, column-major over stored nodes.
@@ -183,7 +195,7 @@ impl Global {
     pub fn accumulate(&mut self, patches: &[Patch], rigid: &[bool], momentum_only: bool) {
         let rows = self.dims[1];
         if !momentum_only && !self.bond.is_empty() {
-            self.accumulate_bonds(patches);
+            self.accumulate_bonds(patches, false);
         }
         self.nodes
             .par_chunks_mut(BAND * rows)
@@ -240,8 +252,9 @@ impl Global {
             });
     }
 
-    /// Sums the patches' bond records (bodies in index order).
-    fn accumulate_bonds(&mut self, patches: &[Patch]) {
+    /// Sums the patches' bond records (bodies in index order): the stress sums and
+    /// strengths, or (`forces`) only the forces and lengths.
+    pub fn accumulate_bonds(&mut self, patches: &[Patch], forces: bool) {
         let rows = self.dims[1];
         self.bond
             .par_chunks_mut(BAND * rows)
@@ -249,13 +262,24 @@ impl Global {
             .for_each(|(band, chunk)| {
                 let c0 = band * BAND;
                 let c1 = c0 + chunk.len() / rows;
-                chunk.fill(GlobalBond::default());
+                for g in chunk.iter_mut() {
+                    if forces {
+                        (g.force, g.length) = (0.0, 0.0);
+                    } else {
+                        *g = GlobalBond::default();
+                    }
+                }
                 for patch in patches.iter().filter(|p| !p.bond.is_empty()) {
                     let (p0, p1) = patch.columns();
                     for col in c0.max(p0)..c1.min(p1) {
                         let src = &patch.bond[(col - p0) * patch.size[1]..][..patch.size[1]];
                         let dst = &mut chunk[(col - c0) * rows + patch.lo[1]..][..patch.size[1]];
                         for (g, n) in dst.iter_mut().zip(src) {
+                            if forces {
+                                g.force += n.force;
+                                g.length += n.length;
+                                continue;
+                            }
                             for c in 0..3 {
                                 g.ms[c] += n.ms[c];
                             }

@@ -64,6 +64,7 @@ pub struct Solver {
     pub global: Option<Global>,
     next: Vec<DVec2>,
     stencils: Vec<Stencil>,
+    density: Vec<f64>,
 }
 
 impl Solver {
@@ -82,6 +83,11 @@ impl Solver {
                 .map(|b| matches!(b.motion, Motion::Prescribed(_)))
                 .collect(),
             patches: vec![Patch::default(); nb],
+            density: setup
+                .bodies
+                .iter()
+                .map(|b| setup.materials[b.material].density())
+                .collect(),
             global: setup
                 .multi_body()
                 .then(|| Global::new(&setup.grid, setup.bonds())),
@@ -234,8 +240,7 @@ fn p2g<K: Kernel>(setup: &Setup, p: &Particles, w: &mut Solver) {
 }
 
 /// One contact correction: sums the bodies (if several), then corrects each free body
-/// against the others and the walls. The first pass of a step (`!momentum_only`) is the
-/// one that records bond failures.
+/// against the others and the walls.
 fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool, dt: f64) -> Vec<Touch> {
     if setup.pass1_to_particles && pass == Pass::Interpolated && !momentum_only {
         // Keep the interpolated velocity so FLIP can see this pass's change too.
@@ -247,9 +252,21 @@ fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool, dt: f
     }
     if let Some(g) = &mut w.global {
         g.accumulate(&w.patches, &w.rigid, momentum_only);
+        if pass == Pass::Integrated && !g.bond.is_empty() {
+            // The forces the intact bonds carry, summed and smoothed along the interface
+            // before any bond is tested.
+            let others = others(setup, g, &w.density);
+            w.patches
+                .par_iter_mut()
+                .enumerate()
+                .filter(|(b, patch)| !w.rigid[*b] && !patch.bond.is_empty())
+                .for_each(|(b, patch)| contact::bond_forces(b as u16, patch, &others, dt));
+            g.accumulate_bonds(&w.patches, true);
+            crate::bond::smooth(g);
+        }
     }
     let global = w.global.as_ref();
-    let rigid = &w.rigid;
+    let (rigid, density) = (&w.rigid, &w.density);
     w.patches
         .par_iter_mut()
         .enumerate()
@@ -258,21 +275,24 @@ fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool, dt: f
                 return Touch::default();
             }
             let t = match global {
-                Some(g) => {
-                    let others = Others {
-                        global: &g.nodes,
-                        bond: &g.bond,
-                        rows: g.dims[1],
-                        table: &setup.contact,
-                        separation: setup.separation,
-                    };
-                    contact::bodies(b as u16, patch, &others, pass, dt, !momentum_only)
-                }
+                Some(g) => contact::bodies(b as u16, patch, &others(setup, g, density), pass, dt),
                 None => Touch::default(),
             };
             t.merge(contact::walls(patch, &setup.grid, &setup.walls, pass, dt))
         })
         .collect()
+}
+
+/// What a body's contact correction reads besides its patch.
+fn others<'a>(setup: &'a Setup, g: &'a Global, density: &'a [f64]) -> Others<'a> {
+    Others {
+        global: &g.nodes,
+        bond: &g.bond,
+        rows: g.dims[1],
+        table: &setup.contact,
+        separation: setup.separation,
+        density,
+    }
 }
 
 /// USF (and USAVG's first half): strain rate from the corrected interpolated

@@ -1,0 +1,230 @@
+//! Engine-level checks of the materials with memory and of thermal loading: a J2 block
+//! in homogeneous simple shear between rigid plates, Maxwell relaxation under held
+//! shear, and the free thermal expansion of a disk.
+
+mod common;
+
+use common::*;
+use glam::DVec2;
+use grains_mpm::*;
+
+const K: f64 = 1.0;
+const G: f64 = 0.5;
+
+/// Block [0, L] × [0, 1] (body 0) between a fixed bottom plate (body 1) and a top plate
+/// (body 2) moving at `v_top`, both bonded without slip. The block starts with the
+/// matching linear velocity profile, so the shear is homogeneous from the first step.
+/// USF: with GIMP and a stress update from the post-integration velocities (USL, USAVG)
+/// the rows of points next to a rigid no-slip plate carry a stress pattern the grid does
+/// not see (first row ~0.6 τ, second ~1.2 τ), which creeps under relaxation; USF (and
+/// linear shape functions with USAVG) keep the profile uniform to ~1 %.
+fn shear_box(material: Material, v_top: f64) -> (Setup, Particles) {
+    let length = 6.0;
+    let h = 0.125;
+    let plate = |name: &str, v: f64| Body {
+        motion: Motion::Prescribed(DVec2::new(v, 0.0)),
+        ..Body::free(name, 0)
+    };
+    let mut s = setup(
+        [-0.5, -0.5],
+        h,
+        [56, 16],
+        vec![material],
+        vec![
+            Body::free("block", 0),
+            plate("bottom", 0.0),
+            plate("top", v_top),
+        ],
+        0.2,
+    );
+    s.contact = ContactTable::new(3, ContactLaw::NoSlip);
+    s.scheme = UpdateScheme::Usf;
+    let mut p = Particles::default();
+    let rect = |lo: [f64; 2], hi: [f64; 2]| Geometry::Rectangle { lo, hi };
+    fill(&mut p, &s, 0, &rect([0.0, 0.0], [length, 1.0]), |x| {
+        DVec2::new(v_top * x.y, 0.0)
+    });
+    fill(&mut p, &s, 1, &rect([0.0, -0.25], [length, 0.0]), |_| {
+        DVec2::ZERO
+    });
+    fill(&mut p, &s, 2, &rect([0.0, 1.0], [length, 1.25]), |_| {
+        DVec2::new(v_top, 0.0)
+    });
+    (s, p)
+}
+
+/// Mean shear stress in the middle third of the block, away from its free ends and from
+/// the rows of points next to the plates.
+fn middle_shear(s: &State) -> f64 {
+    let p = &s.particles;
+    let inside = |i: usize| (p.pos[i].x - 3.0).abs() < 1.0 && (p.pos[i].y - 0.5).abs() < 0.375;
+    mean(s, 0, inside, |i| p.stress[i].xy)
+}
+
+#[test]
+fn j2_block_in_simple_shear() {
+    // τ = G γ until τ = k = σ_y/√3; then, perfectly plastic, τ = k; with hardening H,
+    // dτ/dγ = G H/(H + 3G).
+    let yield_stress = 0.01;
+    let rate = 0.01;
+    for hardening in [0.0, 0.1] {
+        let m = Material::J2Plastic {
+            name: "j2".into(),
+            density: 1.0,
+            bulk: K,
+            shear: G,
+            yield_stress,
+            hardening,
+            expansion: 0.0,
+        };
+        let (setup, p) = shear_box(m, rate);
+        let (mut s, mut w) = start(&setup, p);
+        let mut curve = Vec::new();
+        run_until(&setup, &mut s, &mut w, 5.0, |s, _| {
+            curve.push((rate * s.time, middle_shear(s)))
+        });
+        let k = yield_stress / 3f64.sqrt();
+        let elastic: Vec<_> = curve.iter().filter(|c| c.0 < 0.5 * k / G).collect();
+        let (g, _) = fit(
+            &elastic.iter().map(|c| c.0).collect::<Vec<_>>(),
+            &elastic.iter().map(|c| c.1).collect::<Vec<_>>(),
+        );
+        assert!((g / G - 1.0).abs() < 0.01, "elastic slope {g}");
+        let plastic: Vec<_> = curve.iter().filter(|c| c.0 > 3.0 * k / G).collect();
+        let (slope, _) = fit(
+            &plastic.iter().map(|c| c.0).collect::<Vec<_>>(),
+            &plastic.iter().map(|c| c.1).collect::<Vec<_>>(),
+        );
+        eprintln!(
+            "H = {hardening}: elastic slope {g}, plastic slope {slope}, final τ {}",
+            curve.last().unwrap().1
+        );
+        if hardening == 0.0 {
+            let tau = curve.last().unwrap().1;
+            assert!((tau / k - 1.0).abs() < 0.01, "plateau {tau} vs k = {k}");
+        } else {
+            let expected = G * hardening / (hardening + 3.0 * G);
+            assert!(
+                (slope / expected - 1.0).abs() < 0.02,
+                "slope {slope} vs {expected}"
+            );
+        }
+        let d = diagnostics::measure(&setup, &s.particles, &w.layout().bodies);
+        assert!(d.dissipated > 0.0 && d.bodies[0].plastic_max > 0.0);
+    }
+}
+
+#[test]
+fn maxwell_relaxation_under_held_shear() {
+    // Shear to γ₀, stop the plate and the block, and hold: the shear stress of a
+    // one-term Maxwell solid (G∞ = 0) decays as exp(−t/τ).
+    let tau = 2.0;
+    let m = Material::Maxwell {
+        name: "mx".into(),
+        density: 1.0,
+        bulk: K,
+        shear: 0.0,
+        prony: vec![PronyTerm {
+            shear: G,
+            time: tau,
+        }],
+        expansion: 0.0,
+    };
+    let rate = 0.01;
+    let (mut setup, p) = shear_box(m, rate);
+    let (mut s, mut w) = start(&setup, p);
+    run_until(&setup, &mut s, &mut w, 1.0, |_, _| {});
+    // Hold: the top plate stops, and so does every point of the block.
+    setup.bodies[2].motion = Motion::Prescribed(DVec2::ZERO);
+    let t0 = s.time;
+    for i in 0..s.particles.len() {
+        s.particles.vel[i] = DVec2::ZERO;
+    }
+    let mut w = Solver::new(&setup, &mut s);
+    let tau0 = middle_shear(&s);
+    let (mut t, mut ln) = (vec![0.0], vec![tau0.ln()]);
+    run_until(&setup, &mut s, &mut w, t0 + 2.0 * tau, |s, _| {
+        t.push(s.time - t0);
+        ln.push(middle_shear(s).ln());
+    });
+    let (slope, _) = fit(&t, &ln);
+    let fitted = -1.0 / slope;
+    eprintln!("fitted relaxation time {fitted} (η/G = {tau})");
+    assert!(
+        (fitted / tau - 1.0).abs() < 0.02,
+        "relaxation time {fitted} vs η/G = {tau}"
+    );
+    // The held block stored its strain in the branch, which dissipates it.
+    let d = diagnostics::measure(&setup, &s.particles, &w.layout().bodies);
+    assert!(d.dissipated > 0.0);
+}
+
+#[test]
+fn free_thermal_expansion_of_a_disk() {
+    // A free disk heated slowly (smooth ramp, ~50 wave transits): in plane strain its
+    // in-plane strain is (1 + ν) α ΔT, in-plane stresses vanish and σ_zz = −E α ΔT.
+    let (alpha, dtemp) = (1e-3, 10.0);
+    let m = Material::LinearElastic {
+        name: "hot".into(),
+        density: 1.0,
+        bulk: K,
+        shear: G,
+        expansion: alpha,
+    };
+    // Smoothstep 0 → ΔT over [0, 20], then held.
+    let ramp = 20.0;
+    let points = (0..=40)
+        .map(|k| {
+            let u = k as f64 / 40.0;
+            [u * ramp, dtemp * u * u * (3.0 - 2.0 * u)]
+        })
+        .collect();
+    let body = Body {
+        temperature: Some(TemperatureHistory::Table { points }),
+        ..Body::free("disk", 0)
+    };
+    let setup = setup([0.0, 0.0], 0.05, [40, 40], vec![m], vec![body], 0.2);
+    let centre = DVec2::splat(1.0);
+    let disk = Geometry::Disk {
+        centre: centre.to_array(),
+        radius: 0.5,
+    };
+    let mut p = Particles::default();
+    fill(&mut p, &setup, 0, &disk, |_| DVec2::ZERO);
+    let (mut s, mut w) = start(&setup, p);
+    run_until(&setup, &mut s, &mut w, ramp + 2.0, |_, _| {});
+    let nu = (3.0 * K - 2.0 * G) / (2.0 * (3.0 * K + G));
+    let e = 9.0 * K * G / (3.0 * K + G);
+    let dth = alpha * dtemp;
+    let pp = &s.particles;
+    let strain = mean(&s, 0, |_| true, |i| 0.5 * pp.def[i].determinant().ln());
+    assert!(
+        (strain / ((1.0 + nu) * dth) - 1.0).abs() < 0.01,
+        "strain {strain} vs (1 + ν) α ΔT = {}",
+        (1.0 + nu) * dth
+    );
+    let max_in_plane = (0..pp.len())
+        .map(|i| {
+            let st = pp.stress[i];
+            st.xx.abs().max(st.yy.abs()).max(st.xy.abs())
+        })
+        .fold(0.0, f64::max);
+    assert!(max_in_plane / (K * dth) < 1e-3, "{max_in_plane}");
+    let zz = mean(&s, 0, |_| true, |i| pp.stress[i].zz);
+    eprintln!(
+        "strain/((1+ν)αΔT) {}, max in-plane stress/(KαΔT) {}, σ_zz/(−EαΔT) {}",
+        strain / ((1.0 + nu) * dth),
+        max_in_plane / (K * dth),
+        zz / (-e * dth)
+    );
+    assert!((zz / (-e * dth) - 1.0).abs() < 0.01, "σ_zz {zz}");
+    // The thermal strain did the work now stored (and the little left as motion).
+    let d = diagnostics::measure(&setup, &s.particles, &w.layout().bodies);
+    assert!(
+        d.balance().abs() < 1e-2 * d.thermal_work,
+        "kinetic {} strain {} thermal work {}",
+        d.kinetic,
+        d.strain,
+        d.thermal_work
+    );
+}
