@@ -61,6 +61,24 @@ struct Run {
     sites: usize,
 }
 
+impl Run {
+    /// The outer ring's bonded peak |mean stress| (before `onset`), and the means of the
+    /// ring's and the disk's mean stresses after `after`.
+    fn unloading(&self, onset: f64, after: f64) -> (f64, f64, f64) {
+        let peak = self
+            .samples
+            .iter()
+            .filter(|s| s.t < onset)
+            .map(|s| s.outer.abs())
+            .fold(0.0, f64::max);
+        let end: Vec<&Sample> = self.samples.iter().filter(|s| s.t > after).collect();
+        let n = end.len() as f64;
+        let outer = end.iter().map(|s| s.outer).sum::<f64>() / n;
+        let inner = end.iter().map(|s| s.inner).sum::<f64>() / n;
+        (peak, outer, inner)
+    }
+}
+
 /// Runs the concentric cylinders on `cells` × `cells` cells over [−1.25, 1.25]², the inner
 /// disk's expansion coefficient `alpha`, its temperature following a smoothstep from 0 to
 /// `COOLING` over `t_cool`, until `t_end`, sampling every `every` steps.
@@ -72,14 +90,8 @@ fn concentric(cells: usize, alpha: f64, strength: f64, t_cool: f64, t_end: f64, 
         shear: 0.5,
         expansion,
     };
-    let points = (0..=40)
-        .map(|k| {
-            let u = k as f64 / 40.0;
-            [u * t_cool, COOLING * u * u * (3.0 - 2.0 * u)]
-        })
-        .collect();
     let inner = Body {
-        temperature: Some(TemperatureHistory::Table { points }),
+        temperature: Some(smoothstep(t_cool, COOLING)),
         ..Body::free("inner", 0)
     };
     let mut setup = setup(
@@ -208,14 +220,7 @@ fn bonded_cylinders_debond_and_the_outer_ring_unloads() {
         last.debonded,
         last.surface
     );
-    let peak = run
-        .samples
-        .iter()
-        .filter(|s| s.t < onset)
-        .map(|s| s.outer.abs())
-        .fold(0.0, f64::max);
-    let end: Vec<&Sample> = run.samples.iter().filter(|s| s.t > 14.0).collect();
-    let tail = end.iter().map(|s| s.outer).sum::<f64>() / end.len() as f64;
+    let (peak, tail, _) = run.unloading(onset, 14.0);
     eprintln!("onset {onset:.3} (static {expected:.3}); outer ring mean stress {tail:.3e}, bonded peak {peak:.3e}");
     // Undamped ringing about zero with an amplitude of the bonded value, averaged over
     // ~6 breathing periods of the ring: a residual of ~1/(2π·6) of the amplitude is left.
@@ -275,15 +280,7 @@ fn concentric_cylinders_debond_front_speed() {
         speed / RAYLEIGH,
         rising.len()
     );
-    let peak = run
-        .samples
-        .iter()
-        .filter(|s| s.t < onset)
-        .map(|s| s.outer.abs())
-        .fold(0.0, f64::max);
-    let end: Vec<&Sample> = run.samples.iter().filter(|s| s.t > onset + 4.0).collect();
-    let tail = end.iter().map(|s| s.outer).sum::<f64>() / end.len() as f64;
-    let inner = end.iter().map(|s| s.inner).sum::<f64>() / end.len() as f64;
+    let (peak, tail, inner) = run.unloading(onset, onset + 4.0);
     eprintln!(
         "after debond: outer mean {tail:.3e} inner mean {inner:.3e} (bonded peak {peak:.3e})"
     );

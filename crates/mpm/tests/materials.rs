@@ -173,14 +173,8 @@ fn free_thermal_expansion_of_a_disk() {
     };
     // Smoothstep 0 → ΔT over [0, 20], then held.
     let ramp = 20.0;
-    let points = (0..=40)
-        .map(|k| {
-            let u = k as f64 / 40.0;
-            [u * ramp, dtemp * u * u * (3.0 - 2.0 * u)]
-        })
-        .collect();
     let body = Body {
-        temperature: Some(TemperatureHistory::Table { points }),
+        temperature: Some(smoothstep(ramp, dtemp)),
         ..Body::free("disk", 0)
     };
     let setup = setup([0.0, 0.0], 0.05, [40, 40], vec![m], vec![body], 0.2);

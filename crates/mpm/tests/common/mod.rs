@@ -95,3 +95,15 @@ pub fn fit(x: &[f64], y: &[f64]) -> (f64, f64) {
     let slope = sxy / sxx;
     (slope, my - slope * mx)
 }
+
+/// A temperature going from 0 to `change` along a smoothstep u²(3 − 2u) over `[0, ramp]`
+/// (41 table points), then held.
+pub fn smoothstep(ramp: f64, change: f64) -> TemperatureHistory {
+    let points = (0..=40)
+        .map(|k| {
+            let u = k as f64 / 40.0;
+            [u * ramp, change * u * u * (3.0 - 2.0 * u)]
+        })
+        .collect();
+    TemperatureHistory::Table { points }
+}
