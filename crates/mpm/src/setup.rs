@@ -371,3 +371,131 @@ impl Setup {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::PronyTerm;
+
+    fn two_bodies(law: ContactLaw) -> Setup {
+        let m = Material::LinearElastic {
+            name: "m".into(),
+            density: 1.0,
+            bulk: 1.0,
+            shear: 0.5,
+            expansion: 0.0,
+        };
+        Setup {
+            grid: Grid {
+                lo: DVec2::ZERO,
+                h: 0.1,
+                cells: [10, 10],
+            },
+            shape: ShapeFunction::Gimp,
+            half_width: 0.25,
+            scheme: UpdateScheme::Usf,
+            flip: 1.0,
+            pass1_to_particles: true,
+            materials: vec![m],
+            bodies: vec![Body::free("a", 0), Body::free("b", 0)],
+            contact: ContactTable::new(2, law),
+            separation: None,
+            walls: [None; 4],
+            gravity: DVec2::ZERO,
+            dt: 0.01,
+        }
+    }
+
+    #[test]
+    fn bad_input_names_key_and_value() {
+        let bonded = |strength, mu| ContactLaw::Bonded { strength, mu };
+        assert!(two_bodies(bonded(1.0, 0.3)).validate().is_ok());
+        let e = two_bodies(bonded(-1.0, 0.3)).validate().unwrap_err();
+        assert_eq!(
+            (e.key.as_str(), e.value.as_str()),
+            ("contact.strength", "-1")
+        );
+        let e = two_bodies(bonded(1.0, f64::NAN)).validate().unwrap_err();
+        assert_eq!(e.key, "contact.mu");
+        // A bond with no partner.
+        let mut s = two_bodies(bonded(2.0, 0.0));
+        s.bodies.pop();
+        s.contact = ContactTable::new(1, bonded(2.0, 0.0));
+        let e = s.validate().unwrap_err();
+        assert_eq!(e.key, "contact.strength");
+        assert!(e.allowed.contains("two bodies"), "{e}");
+        // Temperature table out of order.
+        let mut s = two_bodies(ContactLaw::NoSlip);
+        s.bodies[1].temperature = Some(TemperatureHistory::Table {
+            points: vec![[0.0, 300.0], [1.0, 310.0], [0.5, 320.0]],
+        });
+        let e = s.validate().unwrap_err();
+        assert_eq!(e.key, "body[1].temperature.points[2]");
+        assert_eq!(e.value, "[0.5, 320.0]");
+        // A material's own parameters.
+        let mut s = two_bodies(ContactLaw::NoSlip);
+        s.materials[0] = Material::Maxwell {
+            name: "binder".into(),
+            density: 1.0,
+            bulk: 1.0,
+            shear: 0.0,
+            prony: vec![PronyTerm {
+                shear: 1.0,
+                time: f64::INFINITY,
+            }],
+            expansion: 0.0,
+        };
+        let e = s.validate().unwrap_err();
+        assert_eq!(e.key, "material[0].prony[0].time");
+        assert_eq!(
+            e.to_string(),
+            "material[0].prony[0].time = inf: must be a finite number > 0"
+        );
+    }
+
+    #[test]
+    fn points_take_their_bodies_bond_and_branch_storage() {
+        let mut s = two_bodies(ContactLaw::Coulomb { mu: 0.1 });
+        s.materials.push(Material::Maxwell {
+            name: "binder".into(),
+            density: 1.0,
+            bulk: 1.0,
+            shear: 0.0,
+            prony: vec![
+                PronyTerm {
+                    shear: 1.0,
+                    time: 1.0
+                };
+                3
+            ],
+            expansion: 0.0,
+        });
+        s.bodies.push(Body::free("binder", 1));
+        s.contact = ContactTable::new(3, ContactLaw::Coulomb { mu: 0.1 });
+        s.contact.set(
+            0,
+            2,
+            ContactLaw::Bonded {
+                strength: 5.0,
+                mu: 0.3,
+            },
+        );
+        s.contact.set(
+            1,
+            2,
+            ContactLaw::Bonded {
+                strength: 7.0,
+                mu: 0.3,
+            },
+        );
+        let mut p = Particles::default();
+        for b in [0, 1, 2, 2] {
+            p.push(b, 1.0, 1.0, DVec2::splat(0.5), DVec2::ZERO);
+        }
+        s.prepare_points(&mut p);
+        assert_eq!(p.bond, vec![5.0, 7.0, 7.0, 7.0]);
+        assert_eq!(p.branch_width, 3);
+        assert_eq!(p.branches.len(), 12);
+        assert!(s.bonds());
+    }
+}
