@@ -6,7 +6,7 @@
 //! it. The rate models also take an isotropic thermal strain α ΔT from the body's
 //! temperature history. How a step updates a point is in [`crate::models`].
 
-use crate::models::{ElasticStep, J2Step, MaxwellStep, NeoHookeanStep, Prepared, TermStep};
+use crate::models::{ElasticStep, J2Step, MaxwellStep, NeoHookeanStep, Prepared};
 use crate::setup::SetupError;
 use crate::thermal::Thermal;
 use glam::DMat2;
@@ -314,13 +314,7 @@ impl Material {
             }),
             Material::Maxwell {
                 bulk, shear, prony, ..
-            } => Prepared::Maxwell(MaxwellStep {
-                dt,
-                bulk: *bulk,
-                shear: *shear,
-                dth,
-                terms: prony.iter().map(|t| TermStep::new(*t, dt)).collect(),
-            }),
+            } => Prepared::Maxwell(MaxwellStep::new(dt, *bulk, *shear, dth, prony)),
         }
     }
 

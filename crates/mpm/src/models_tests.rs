@@ -303,3 +303,19 @@ fn work_is_stored_or_dissipated() {
         );
     }
 }
+
+#[test]
+fn prony_dissipation_constants_are_continuous_at_the_series_switch() {
+    let term = PronyTerm {
+        shear: 2.0,
+        time: 1.0,
+    };
+    let (below, above) = (
+        TermStep::new(term, 1e-3 * (1.0 - 1e-9)),
+        TermStep::new(term, 1e-3),
+    );
+    assert!((below.diss_dd / above.diss_dd - 1.0).abs() < 1e-8);
+    // Small steps: x³/3 k τ.
+    let t = TermStep::new(term, 1e-6);
+    assert!((t.diss_dd / (4.0 * 1e-18 / 3.0) - 1.0).abs() < 1e-5);
+}
