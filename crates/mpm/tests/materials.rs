@@ -227,3 +227,73 @@ fn free_thermal_expansion_of_a_disk() {
         d.thermal_work
     );
 }
+
+#[test]
+fn kinetic_plus_stored_plus_dissipated_is_conserved() {
+    // A free block set vibrating in a shear mode, strong enough to yield (J2) or to
+    // spend its energy in the dashpots (Maxwell): what the motion loses is counted as
+    // dissipated, so total + dissipated stays at its initial value to the scheme's own
+    // accuracy (USF keeps an elastic vibration to ~1 %, tests/physics.rs).
+    let materials = [
+        Material::J2Plastic {
+            name: "j2".into(),
+            density: 1.0,
+            bulk: K,
+            shear: G,
+            yield_stress: 0.01,
+            hardening: 0.05,
+            expansion: 0.0,
+        },
+        Material::Maxwell {
+            name: "mx".into(),
+            density: 1.0,
+            bulk: K,
+            shear: 0.2,
+            prony: vec![
+                PronyTerm {
+                    shear: 0.2,
+                    time: 0.5,
+                },
+                PronyTerm {
+                    shear: 0.1,
+                    time: 5.0,
+                },
+            ],
+            expansion: 0.0,
+        },
+    ];
+    for m in materials {
+        let mut setup = setup(
+            [0.0, 0.0],
+            0.125,
+            [32, 16],
+            vec![m.clone()],
+            vec![Body::free("block", 0)],
+            0.2,
+        );
+        setup.scheme = UpdateScheme::Usf;
+        let mut p = Particles::default();
+        let block = Geometry::Rectangle {
+            lo: [1.0, 0.5],
+            hi: [3.0, 1.5],
+        };
+        fill(&mut p, &setup, 0, &block, |x| {
+            DVec2::new(0.05 * (std::f64::consts::PI * (x.y - 1.0)).sin(), 0.0)
+        });
+        let (mut s, mut w) = start(&setup, p);
+        let e0 = diagnostics::measure(&setup, &s.particles, &w.layout().bodies).balance();
+        let mut worst = 0.0f64;
+        run_until(&setup, &mut s, &mut w, 6.0, |s, w| {
+            let d = diagnostics::measure(&setup, &s.particles, &w.layout().bodies);
+            worst = worst.max((d.balance() / e0 - 1.0).abs());
+        });
+        let d = diagnostics::measure(&setup, &s.particles, &w.layout().bodies);
+        eprintln!(
+            "{}: dissipated {:.3} of E0, worst |balance/E0 − 1| {worst:.2e}",
+            m.name(),
+            d.dissipated / e0
+        );
+        assert!(d.dissipated > 0.2 * e0, "{m:?}: {}", d.dissipated / e0);
+        assert!(worst < 0.02, "{m:?}: {worst}");
+    }
+}
