@@ -30,6 +30,7 @@ fn main() {
         density: 1.0,
         bulk: 1.0,
         shear: 0.5,
+        expansion: 0.0,
     };
     let c = mat.wave_speed();
     let setup = Setup {
@@ -44,11 +45,7 @@ fn main() {
         flip: 1.0,
         pass1_to_particles: pass1,
         materials: vec![mat],
-        bodies: vec![Body {
-            name: "cyl".into(),
-            material: 0,
-            motion: Motion::Free,
-        }],
+        bodies: vec![Body::free("cyl", 0)],
         contact: ContactTable::new(1, ContactLaw::Coulomb { mu: 0.0 }),
         separation: None,
         walls: [Some(mu); 4],

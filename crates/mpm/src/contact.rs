@@ -5,10 +5,12 @@
 //! bodies' (n_b ∝ g_b − g_rest), so two bodies get equal and opposite corrections and
 //! momentum is conserved. Rigid bodies take the place of the centre of mass, and their
 //! mass gradient gives the normal. The domain
-//! edges are walls with exact normals and the same law.
+//! edges are walls with exact normals and the same law. Bonded pairs follow
+//! [`crate::bond`].
 
+use crate::bond;
 use crate::grid::{Grid, GHOST};
-use crate::nodes::{GlobalNode, Node, Patch};
+use crate::nodes::{GlobalBond, GlobalNode, Node, Patch};
 use crate::setup::{ContactLaw, ContactTable};
 use crate::shape::{Bspline2, Gimp, Kernel, Linear, ShapeFunction};
 use glam::DVec2;
@@ -28,7 +30,7 @@ pub enum Pass {
 pub fn coulomb(dp: DVec2, n: DVec2, law: ContactLaw) -> Option<DVec2> {
     match law {
         ContactLaw::NoSlip => Some(dp),
-        ContactLaw::Coulomb { mu } => {
+        ContactLaw::Coulomb { mu } | ContactLaw::Bonded { mu, .. } => {
             let dn = dp.dot(n);
             if dn >= 0.0 {
                 return None;
@@ -54,6 +56,8 @@ pub struct Touch {
     pub partner: Option<u16>,
     /// Walls touched: bit k for side k (left, right, bottom, top).
     pub walls: u8,
+    /// Nodes where a bond failed.
+    pub debonded: u32,
 }
 
 impl Touch {
@@ -63,8 +67,26 @@ impl Touch {
             body_nodes: self.body_nodes + o.body_nodes,
             partner: o.partner.or(self.partner),
             walls: self.walls | o.walls,
+            debonded: self.debonded + o.debonded,
         }
     }
+}
+
+/// What one body's contact correction reads besides its own patch.
+#[derive(Clone, Copy)]
+pub struct Others<'a> {
+    /// The sums over bodies, column-major.
+    pub global: &'a [GlobalNode],
+    /// The bond sums, same indexing (empty without bonded laws).
+    pub bond: &'a [GlobalBond],
+    /// Stored rows of the global grid.
+    pub rows: usize,
+    /// Laws per pair.
+    pub table: &'a ContactTable,
+    /// Nairn's separation cut-off (see [`touching_separation`]).
+    pub separation: Option<f64>,
+    /// Density of each body's material (for the interface length at a node).
+    pub density: &'a [f64],
 }
 
 #[inline]
@@ -126,57 +148,145 @@ fn touching<K: Kernel>(per_cell: u32) -> f64 {
     body
 }
 
-/// Corrects body `b`'s patch against the other bodies summed in `global`. With
-/// `separation`, nodes where the two sides' material centroids are farther apart than
-/// that along the normal are left alone (the bodies are near, not touching).
-#[allow(clippy::too_many_arguments)]
-pub fn bodies(
-    b: u16,
-    patch: &mut Patch,
-    global: &[GlobalNode],
-    global_rows: usize,
-    table: &ContactTable,
-    separation: Option<f64>,
-    pass: Pass,
-    dt: f64,
-) -> Touch {
+/// Where a body's field `n` at a node meets the others: the momentum it would take to move with
+/// them (the centre of mass, or a rigid master), its unit outward normal and the length
+/// of the normal vector |g_b − g_other| (`None` for the normal where the gradients cancel).
+#[inline]
+fn meeting(n: &Node, g: &GlobalNode) -> (DVec2, Option<(DVec2, f64)>) {
+    // A rigid body is the master surface: its own normal is used, because a deformable
+    // body's corner (where its gradient tilts) would otherwise plough into a flat rigid
+    // surface it slides on.
+    let (target, normal) = if g.m_rigid > 0.0 {
+        (g.p_rigid * (n.m / g.m_rigid), -g.g_rigid)
+    } else {
+        (g.p * (n.m / g.m), 2.0 * n.g - g.g)
+    };
+    let len = normal.length();
+    let normal = (len > 0.0 && len.is_finite()).then(|| (normal / len, len));
+    (target, normal)
+}
+
+/// The interface length a node stands for: the normal vector's length over the densities
+/// it sums, |g_b − g_other| = (ρ_b + ρ_other) × length (a rigid master's gradient alone).
+#[inline]
+fn length(b: u16, partner: u16, g: &GlobalNode, len: f64, density: &[f64]) -> f64 {
+    let rho = if g.m_rigid > 0.0 {
+        density[partner as usize]
+    } else {
+        density[b as usize] + density[partner as usize]
+    };
+    len / rho
+}
+
+/// Bonded pairs, after integration and before any correction: the normal force each
+/// intact bond must carry to keep body `b` attached (its stick change over Δt along the
+/// normal) and the interface length the node stands for, into the patch's bond records.
+pub fn bond_forces(b: u16, patch: &mut Patch, others: &Others, dt: f64) {
+    let rows = patch.size[1];
+    for (c, col) in patch.nodes.chunks(rows).enumerate() {
+        let at = (patch.lo[0] + c) * others.rows + patch.lo[1];
+        for (r, n) in col.iter().enumerate() {
+            let rec = &mut patch.bond[c * rows + r];
+            (rec.force, rec.length) = (0.0, 0.0);
+            let g = &others.global[at + r];
+            if g.count < 2 || n.m <= 0.0 || rec.failed {
+                continue;
+            }
+            let partner = g.partner(b);
+            let ContactLaw::Bonded { strength, .. } =
+                others.table.get(b as usize, partner as usize)
+            else {
+                continue;
+            };
+            if others.bond[at + r].strength.min(strength) <= 0.0 {
+                continue;
+            }
+            if let (target, Some((normal, len))) = meeting(n, g) {
+                rec.force = (target - n.p).dot(normal) / dt;
+                rec.length = length(b, partner, g, len, others.density);
+            }
+        }
+    }
+}
+
+/// Corrects body `b`'s patch against the other bodies summed in `others.global`. With
+/// a separation cut-off, nodes where the two sides' material centroids are farther apart
+/// than that along the normal are left alone (the bodies are near, not touching). Bonds
+/// are tested after integration against the smoothed traction of [`bond_forces`]; a node
+/// where one fails is marked in the patch, is debonded for the rest of the step, and its
+/// points lose their bond.
+pub fn bodies(b: u16, patch: &mut Patch, others: &Others, pass: Pass, dt: f64) -> Touch {
     let mut touch = Touch::default();
     let rows = patch.size[1];
     let inv_dt = 1.0 / dt;
     let keep = !patch.xs.is_empty();
+    let (table, separation) = (others.table, others.separation);
     for (c, col) in patch.nodes.chunks_mut(rows).enumerate() {
-        let gcol = &global[(patch.lo[0] + c) * global_rows + patch.lo[1]..][..rows];
+        let at = (patch.lo[0] + c) * others.rows + patch.lo[1];
+        let gcol = &others.global[at..][..rows];
         for (r, (n, g)) in col.iter_mut().zip(gcol).enumerate() {
             if g.count < 2 || n.m <= 0.0 {
                 continue;
             }
-            // A rigid body is the master surface: its own normal is used, because a
-            // deformable body's corner (where its gradient tilts) would otherwise plough
-            // into a flat rigid surface it slides on.
-            let (target, normal) = if g.m_rigid > 0.0 {
-                (g.p_rigid * (n.m / g.m_rigid), -g.g_rigid)
-            } else {
-                (g.p * (n.m / g.m), 2.0 * n.g - g.g)
-            };
-            let len = normal.length();
-            if len == 0.0 || !len.is_finite() {
-                continue;
-            }
-            let normal = normal / len;
             let partner = g.partner(b);
             let law = table.get(b as usize, partner as usize);
-            if let (Some(cut), true, ContactLaw::Coulomb { .. }) = (separation, keep, law) {
-                let mine = patch_x(&patch.xs, c * rows + r) / n.m;
+            let (target, normal) = meeting(n, g);
+            let k = c * rows + r;
+            // A bond's state here: its strength (0 once failed), the traction it
+            // carries (tested after integration), and the normal traction of the
+            // stresses (for the compression test once debonded).
+            let bonded = match law {
+                ContactLaw::Bonded { strength, mu } => {
+                    let gb = &others.bond[at + r];
+                    let s = if patch.bond[k].failed {
+                        0.0
+                    } else {
+                        gb.strength.min(strength)
+                    };
+                    let pull = (pass == Pass::Integrated).then_some(gb.traction);
+                    let t = normal.map_or(0.0, |(n, _)| {
+                        let [xx, yy, xy] = gb.ms.map(|x| x / g.m);
+                        n.x * n.x * xx + 2.0 * n.x * n.y * xy + n.y * n.y * yy
+                    });
+                    Some((s, pull, t, mu))
+                }
+                _ => None,
+            };
+            let intact = bonded.is_some_and(|b| b.0 > 0.0);
+            let Some((normal, _)) = normal else {
+                // No normal: only an intact bond still acts (the fields move as one).
+                if intact {
+                    apply(n, target - n.p, pass, inv_dt, 1);
+                    touch.body_nodes += 1;
+                    touch.partner = Some(partner);
+                }
+                continue;
+            };
+            if let (Some(cut), true, false) =
+                (separation, keep, intact || law == ContactLaw::NoSlip)
+            {
+                let mine = patch_x(&patch.xs, k) / n.m;
                 let theirs = if g.m_rigid > 0.0 {
                     g.x_rigid / g.m_rigid
                 } else {
-                    (g.x - patch_x(&patch.xs, c * rows + r)) / (g.m - n.m)
+                    (g.x - patch_x(&patch.xs, k)) / (g.m - n.m)
                 };
                 if (theirs - mine).dot(normal) > cut {
                     continue;
                 }
             }
-            if let Some(dp) = coulomb(target - n.p, normal, law) {
+            let dp = match bonded {
+                Some((s, pull, t, mu)) => {
+                    let (dp, failed) = bond::bonded(target - n.p, normal, pull, t, s, mu);
+                    if failed {
+                        patch.bond[k].failed = true;
+                        touch.debonded += 1;
+                    }
+                    dp
+                }
+                None => coulomb(target - n.p, normal, law),
+            };
+            if let Some(dp) = dp {
                 apply(n, dp, pass, inv_dt, 1);
                 touch.body_nodes += 1;
                 touch.partner = Some(partner);
@@ -288,7 +398,7 @@ mod tests {
             cells: [4, 4],
         };
         let mut patch = Patch::default();
-        patch.reset([0, 0], [3, 3], false);
+        patch.reset([0, 0], [3, 3], false, false);
         for n in &mut patch.nodes {
             n.m = 2.0;
             n.p = DVec2::new(-1.0, 0.4);

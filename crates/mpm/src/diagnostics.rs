@@ -1,7 +1,9 @@
-//! What a run records: energies, momentum, and per body the centre of mass, velocity,
-//! angular velocity and rotation angle. Sums run over fixed chunks in a fixed order, so
-//! they do not depend on the thread count.
+//! What a run records: energies (with the energy dissipated by plasticity and viscosity
+//! and the work of thermal strains), momentum, and per body the centre of mass, velocity,
+//! angular velocity, rotation angle, plastic strain and debonded length. Sums run over
+//! fixed chunks in a fixed order, so they do not depend on the thread count.
 
+use crate::bond;
 use crate::particles::Particles;
 use crate::setup::{Motion, Setup};
 use crate::CHUNK;
@@ -26,6 +28,14 @@ pub struct BodyDiag {
     pub kinetic: f64,
     /// Stored (strain) energy.
     pub strain: f64,
+    /// Energy dissipated by plastic work and viscosity.
+    pub dissipated: f64,
+    /// Work done by thermal strains.
+    pub thermal_work: f64,
+    /// Largest equivalent plastic strain.
+    pub plastic_max: f64,
+    /// Surface and debonded lengths (zeros for a body without a bond).
+    pub lengths: bond::Lengths,
 }
 
 /// Whole-system figures.
@@ -35,6 +45,10 @@ pub struct Diagnostics {
     pub kinetic: f64,
     /// Stored elastic energy.
     pub strain: f64,
+    /// Energy dissipated so far by plastic work and viscosity (free bodies).
+    pub dissipated: f64,
+    /// Work done so far on the free bodies by their thermal strains.
+    pub thermal_work: f64,
     /// Gravitational potential energy −Σ m g·x of the free bodies.
     pub potential: f64,
     /// Total momentum of the free bodies.
@@ -52,6 +66,13 @@ impl Diagnostics {
     pub fn total(&self) -> f64 {
         self.kinetic + self.strain + self.potential
     }
+
+    /// Total + dissipated − thermal work: constant up to the discretisation's own error
+    /// when only prescribed temperatures and gravity act (no rigid movers, no walls'
+    /// friction).
+    pub fn balance(&self) -> f64 {
+        self.total() + self.dissipated - self.thermal_work
+    }
 }
 
 #[derive(Clone, Copy, Default)]
@@ -63,6 +84,9 @@ struct Sums {
     ke: f64,
     se: f64,
     pe: f64,
+    de: f64,
+    tw: f64,
+    epmax: f64,
     vmax: f64,
     bad: bool,
 }
@@ -101,7 +125,11 @@ pub fn measure(setup: &Setup, p: &Particles, ranges: &[(usize, usize)]) -> Diagn
                     s.ke += 0.5 * m * v.length_squared();
                     s.pe -= m * g.dot(x);
                     if free {
-                        s.se += mat.energy(p.vol0[i], p.def[i], &p.stress[i]);
+                        s.se +=
+                            mat.stored_energy(p.vol0[i], p.def[i], &p.stress[i], p.branches_of(i));
+                        s.de += p.dissipated[i];
+                        s.tw += p.thermal_work[i];
+                        s.epmax = s.epmax.max(p.plastic[i]);
                     }
                     s.vmax = s.vmax.max(v.length());
                     let st = p.stress[i];
@@ -121,6 +149,9 @@ pub fn measure(setup: &Setup, p: &Particles, ranges: &[(usize, usize)]) -> Diagn
             s.ke += c.ke;
             s.se += c.se;
             s.pe += c.pe;
+            s.de += c.de;
+            s.tw += c.tw;
+            s.epmax = s.epmax.max(c.epmax);
             s.vmax = s.vmax.max(c.vmax);
             s.bad |= c.bad;
         }
@@ -157,14 +188,25 @@ pub fn measure(setup: &Setup, p: &Particles, ranges: &[(usize, usize)]) -> Diagn
             angle: q.cross.atan2(q.dot),
             kinetic: s.ke,
             strain: s.se,
+            dissipated: s.de,
+            thermal_work: s.tw,
+            plastic_max: s.epmax,
+            lengths: bond::Lengths::default(),
         });
         d.finite &= !s.bad;
         d.max_speed = d.max_speed.max(s.vmax);
         if free {
             d.kinetic += s.ke;
             d.strain += s.se;
+            d.dissipated += s.de;
+            d.thermal_work += s.tw;
             d.potential += s.pe;
             d.momentum += s.mv;
+        }
+    }
+    if setup.bonds() {
+        for (b, l) in bond::lengths(setup, p, ranges).into_iter().enumerate() {
+            d.bodies[b].lengths = l;
         }
     }
     d

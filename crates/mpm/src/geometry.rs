@@ -1,5 +1,7 @@
 //! Body shapes and how they are filled with material points: a lattice of `n × n` points
-//! per cell aligned with the grid, keeping the points that fall inside the shape.
+//! per cell aligned with the grid, keeping the points that fall inside the shape. Shapes
+//! that share the lattice never share a point, so a region minus other bodies (a binder
+//! around grains) is filled exactly where they are not.
 
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
@@ -27,6 +29,39 @@ pub enum Geometry {
         /// Vertices (m).
         vertices: Vec<[f64; 2]>,
     },
+    /// A ring: the points at distance r from the centre with inner ≤ r < outer (a disk of
+    /// radius `inner` at the same centre holds exactly the rest).
+    Annulus {
+        /// Centre (m).
+        centre: [f64; 2],
+        /// Inner radius (m), ≥ 0.
+        inner: f64,
+        /// Outer radius (m), > inner.
+        outer: f64,
+    },
+    /// `base` without the shapes in `minus` (e.g. the binder: a box minus the grains).
+    Difference {
+        /// The region filled.
+        base: Box<Geometry>,
+        /// The holes (other bodies' shapes).
+        minus: Vec<Geometry>,
+    },
+}
+
+/// Sample points per axis of the numerical area of shapes without a closed form.
+const AREA_SAMPLES: usize = 1024;
+
+/// Area of the part of `lo..hi` where `inside` holds, by the midpoint rule on a
+/// [`AREA_SAMPLES`]² lattice (relative error ~ 1/[`AREA_SAMPLES`] of the boundary's share).
+fn sampled_area((lo, hi): (DVec2, DVec2), inside: impl Fn(DVec2) -> bool) -> f64 {
+    let d = (hi - lo) / AREA_SAMPLES as f64;
+    let mut n = 0usize;
+    for j in 0..AREA_SAMPLES {
+        for i in 0..AREA_SAMPLES {
+            n += inside(lo + d * DVec2::new(i as f64 + 0.5, j as f64 + 0.5)) as usize;
+        }
+    }
+    n as f64 * d.x * d.y
 }
 
 impl Geometry {
@@ -55,7 +90,61 @@ impl Geometry {
                 }
                 inside
             }
+            Geometry::Annulus {
+                centre,
+                inner,
+                outer,
+            } => {
+                let r2 = (p - DVec2::from(*centre)).length_squared();
+                r2 >= inner * inner && r2 < outer * outer
+            }
+            Geometry::Difference { base, minus } => {
+                base.contains(p) && !minus.iter().any(|m| m.contains(p))
+            }
         }
+    }
+
+    /// `self` without the shapes `others`.
+    pub fn minus(self, others: Vec<Geometry>) -> Geometry {
+        Geometry::Difference {
+            base: Box::new(self),
+            minus: others,
+        }
+    }
+
+    /// True if the convex shape `self` surely contains all of `other` (its bounding box
+    /// is inside); false when unsure.
+    fn surely_contains(&self, other: &Geometry) -> bool {
+        let (lo, hi) = other.bounds();
+        let convex = matches!(self, Geometry::Disk { .. } | Geometry::Rectangle { .. });
+        let corners = [lo, hi, DVec2::new(lo.x, hi.y), DVec2::new(hi.x, lo.y)];
+        let inner_disk = match (self, other) {
+            (
+                Geometry::Disk { centre, radius },
+                Geometry::Disk {
+                    centre: c,
+                    radius: r,
+                },
+            ) => (DVec2::from(*centre) - DVec2::from(*c)).length() + r <= *radius,
+            _ => false,
+        };
+        inner_disk || (convex && corners.iter().all(|c| self.contains(*c)))
+    }
+
+    /// True if the two shapes surely do not overlap; false when unsure.
+    fn surely_apart(&self, other: &Geometry) -> bool {
+        if let (
+            Geometry::Disk { centre, radius },
+            Geometry::Disk {
+                centre: c,
+                radius: r,
+            },
+        ) = (self, other)
+        {
+            return (DVec2::from(*centre) - DVec2::from(*c)).length() >= radius + r;
+        }
+        let ((a0, a1), (b0, b1)) = (self.bounds(), other.bounds());
+        a1.x <= b0.x || b1.x <= a0.x || a1.y <= b0.y || b1.y <= a0.y
     }
 
     /// Exact area (m² per unit thickness).
@@ -73,6 +162,33 @@ impl Geometry {
                     .sum();
                 0.5 * twice.abs()
             }
+            Geometry::Annulus { inner, outer, .. } => {
+                std::f64::consts::PI * (outer * outer - inner * inner)
+            }
+            Geometry::Difference { base, minus } => {
+                let apart = minus
+                    .iter()
+                    .enumerate()
+                    .all(|(k, a)| minus[k + 1..].iter().all(|b| a.surely_apart(b)));
+                if !apart {
+                    return sampled_area(self.bounds(), |p| self.contains(p));
+                }
+                // Disjoint holes: each removes its overlap with the base, exactly when it
+                // lies wholly inside or wholly outside.
+                let removed: f64 = minus
+                    .iter()
+                    .map(|m| {
+                        if base.surely_contains(m) {
+                            m.area()
+                        } else if base.surely_apart(m) {
+                            0.0
+                        } else {
+                            sampled_area(m.bounds(), |p| m.contains(p) && base.contains(p))
+                        }
+                    })
+                    .sum();
+                base.area() - removed
+            }
         }
     }
 
@@ -89,6 +205,11 @@ impl Geometry {
                 .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), v| {
                     (lo.min(DVec2::from(*v)), hi.max(DVec2::from(*v)))
                 }),
+            Geometry::Annulus { centre, outer, .. } => {
+                let c = DVec2::from(*centre);
+                (c - DVec2::splat(*outer), c + DVec2::splat(*outer))
+            }
+            Geometry::Difference { base, .. } => base.bounds(),
         }
     }
 
@@ -119,6 +240,32 @@ impl Geometry {
                 }
                 if self.area() <= 0.0 {
                     return Err(format!("vertices = {vertices:?}: the polygon has no area"));
+                }
+            }
+            Geometry::Annulus {
+                centre,
+                inner,
+                outer,
+            } => {
+                if !finite(centre) {
+                    return Err(format!("centre = {centre:?}: must be finite"));
+                }
+                if !(inner.is_finite() && *inner >= 0.0) {
+                    return Err(format!("inner = {inner}: must be a finite number >= 0"));
+                }
+                if !(outer.is_finite() && outer > inner) {
+                    return Err(format!(
+                        "outer = {outer}: must be finite and greater than inner = {inner}"
+                    ));
+                }
+            }
+            Geometry::Difference { base, minus } => {
+                base.validate().map_err(|e| format!("base.{e}"))?;
+                for (k, m) in minus.iter().enumerate() {
+                    m.validate().map_err(|e| format!("minus[{k}].{e}"))?;
+                }
+                if self.area() <= 0.0 {
+                    return Err("minus: the holes cover the whole base".into());
                 }
             }
         }
@@ -181,5 +328,92 @@ mod tests {
         }
         .validate()
         .is_err());
+    }
+
+    #[test]
+    fn annulus_and_disk_share_no_point_and_leave_no_gap() {
+        let (c, a, b) = ([1.0, 1.0], 0.4, 0.8);
+        let disk = Geometry::Disk {
+            centre: c,
+            radius: a,
+        };
+        let ring = Geometry::Annulus {
+            centre: c,
+            inner: a,
+            outer: b,
+        };
+        let whole = Geometry::Disk {
+            centre: c,
+            radius: b,
+        };
+        let pitch = 0.025;
+        let (d, r, w) = (
+            disk.fill(DVec2::ZERO, pitch),
+            ring.fill(DVec2::ZERO, pitch),
+            whole.fill(DVec2::ZERO, pitch),
+        );
+        assert_eq!(d.len() + r.len(), w.len());
+        assert!(d.iter().all(|p| !ring.contains(*p)));
+        assert!((ring.area() + disk.area() - whole.area()).abs() < 1e-12);
+        assert!(ring.validate().is_ok());
+        let bad = Geometry::Annulus {
+            centre: c,
+            inner: 0.9,
+            outer: 0.8,
+        };
+        assert!(bad.validate().unwrap_err().contains("outer = 0.8"));
+    }
+
+    #[test]
+    fn region_minus_bodies_fills_the_complement() {
+        let grains = vec![
+            Geometry::Disk {
+                centre: [0.5, 0.5],
+                radius: 0.3,
+            },
+            Geometry::Disk {
+                centre: [1.2, 0.5],
+                radius: 0.3,
+            },
+            // Cut by the box's edge.
+            Geometry::Disk {
+                centre: [2.0, 0.5],
+                radius: 0.3,
+            },
+        ];
+        let bx = Geometry::Rectangle {
+            lo: [0.0, 0.0],
+            hi: [2.0, 1.0],
+        };
+        let binder = bx.clone().minus(grains.clone());
+        let pitch = 0.02;
+        let b = binder.fill(DVec2::ZERO, pitch);
+        let g: usize = grains
+            .iter()
+            .map(|d| {
+                d.fill(DVec2::ZERO, pitch)
+                    .iter()
+                    .filter(|p| bx.contains(**p))
+                    .count()
+            })
+            .sum();
+        assert_eq!(b.len() + g, bx.fill(DVec2::ZERO, pitch).len());
+        // Two whole disks and half of the third.
+        let exact = 2.0 - 2.5 * std::f64::consts::PI * 0.09;
+        assert!(
+            (binder.area() - exact).abs() < 1e-3 * exact,
+            "{}",
+            binder.area()
+        );
+        assert!(binder.validate().is_ok());
+        // Overlapping holes fall back on sampling.
+        let two = bx.clone().minus(vec![grains[0].clone(), grains[0].clone()]);
+        let one = bx.minus(vec![grains[0].clone()]);
+        assert!((two.area() - one.area()).abs() < 1e-3 * one.area());
+        let toml = r#"shape = "difference"
+            base = { shape = "rectangle", lo = [0.0, 0.0], hi = [1.0, 1.0] }
+            minus = [{ shape = "annulus", centre = [0.5, 0.5], inner = 0.1, outer = 0.2 }]"#;
+        let g: Geometry = toml::from_str(toml).unwrap();
+        assert!((g.area() - (1.0 - std::f64::consts::PI * 0.03)).abs() < 1e-12);
     }
 }

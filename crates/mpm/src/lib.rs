@@ -3,11 +3,17 @@
 //! Sulsky (1998, 2000) and Bardenhagen et al. (2001).
 //!
 //! Bodies are sets of material points carrying mass, volume, position, velocity,
-//! deformation gradient and stress. Each body has its own velocity field on the background
-//! grid; where fields meet, the Coulomb contact law moves them toward the centre-of-mass
-//! field, once after the particle-to-grid transfer and once after integration (the second
-//! correction reaches the particles as a force). The domain's edges are walls with exact
-//! normals and Coulomb friction; bodies with a prescribed velocity are rigid movers.
+//! deformation gradient, stress and the internal state of their material (equivalent
+//! plastic strain, Maxwell branch stresses, bond strength, dissipated energy, thermal
+//! work). Materials ([`Material`]) are elastic, Neo-Hookean, J2 elastic-plastic or
+//! generalized Maxwell; the rate models take a thermal strain from their body's
+//! prescribed temperature ([`TemperatureHistory`]). Each body has its own velocity field on
+//! the background grid; where fields meet, the Coulomb contact law moves them toward the
+//! centre-of-mass field, once after the particle-to-grid transfer and once after
+//! integration (the second correction reaches the particles as a force). Bonded pairs
+//! move as one until the bond fails, then slide ([`bond`]). The domain's edges are walls
+//! with exact normals and Coulomb friction; bodies with a prescribed velocity are rigid
+//! movers.
 //!
 //! One time step is a short fixed sequence of named stages (see [`step::step`]). State is
 //! passed explicitly: [`Particles`] (per-field storage) in a [`State`], a read-only
@@ -19,11 +25,13 @@
 // five or more fields would hide that, not clarify it.
 #![allow(clippy::needless_range_loop)]
 
+pub mod bond;
 pub mod contact;
 pub mod diagnostics;
 pub mod geometry;
 pub mod grid;
 pub mod material;
+pub mod models;
 pub mod nodes;
 pub mod particles;
 pub mod setup;
@@ -31,17 +39,20 @@ pub mod shape;
 mod simd;
 pub mod step;
 mod tasks;
+pub mod thermal;
 pub mod timestep;
 pub mod transfer;
 
 pub use contact::Touch;
 pub use geometry::Geometry;
 pub use grid::Grid;
-pub use material::{Material, Stress};
+pub use material::{Material, PronyTerm, Stress};
+pub use models::PointState;
 pub use particles::Particles;
 pub use setup::{Body, ContactLaw, ContactTable, Motion, Setup, UpdateScheme};
 pub use shape::ShapeFunction;
 pub use step::{step, Solver, State, Unstable};
+pub use thermal::{TemperatureHistory, Thermal};
 
 /// Points per chunk of every reduction, fixed so sums do not depend on the thread count.
 pub const CHUNK: usize = 4096;

@@ -35,6 +35,24 @@ pub struct Kin {
     pub a: DVec2,
 }
 
+/// What a bonded interface needs at one node of one body: Σ S m σ (for the normal
+/// traction of the stresses), the strongest bond among the points that reach the node,
+/// the normal force the intact bond carries and the interface length the node stands for,
+/// and whether the bond failed here this step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BondNode {
+    /// Σ S m (σ_xx, σ_yy, σ_xy).
+    pub ms: [f64; 3],
+    /// Largest bond strength of the points with weight here (Pa).
+    pub strength: f64,
+    /// Normal force (tension > 0, N per unit thickness) the intact bond must carry.
+    pub force: f64,
+    /// Interface length the node stands for (m).
+    pub length: f64,
+    /// The bond failed at this node this step: its points lose their bond.
+    pub failed: bool,
+}
+
 /// One body's nodes.
 #[derive(Clone, Debug, Default)]
 pub struct Patch {
@@ -49,11 +67,14 @@ pub struct Patch {
     /// Σ S m x: with the mass, where the body's material near the node is centred (only
     /// kept when contact uses the separation test; empty otherwise).
     pub xs: Vec<DVec2>,
+    /// Bonded-interface sums (only kept when some contact law bonds; empty otherwise).
+    pub bond: Vec<BondNode>,
 }
 
 impl Patch {
-    /// Re-shapes the patch to cover stored nodes `[lo, hi)` and zeroes it.
-    pub fn reset(&mut self, lo: [usize; 2], hi: [usize; 2], positions: bool) {
+    /// Re-shapes the patch to cover stored nodes `[lo, hi)` and zeroes it; keeps the
+    /// centroid sums if `positions` and the bond sums if `bonds`.
+    pub fn reset(&mut self, lo: [usize; 2], hi: [usize; 2], positions: bool, bonds: bool) {
         self.lo = lo;
         self.size = [hi[0] - lo[0], hi[1] - lo[1]];
         let n = self.size[0] * self.size[1];
@@ -64,6 +85,10 @@ impl Patch {
         self.xs.clear();
         if positions {
             self.xs.resize(n, DVec2::ZERO);
+        }
+        self.bond.clear();
+        if bonds {
+            self.bond.resize(n, BondNode::default());
         }
     }
 
@@ -118,6 +143,22 @@ impl GlobalNode {
     }
 }
 
+/// The sum over bodies of [`BondNode`] at one node.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GlobalBond {
+    /// Σ S m σ over all bodies.
+    pub ms: [f64; 3],
+    /// Largest bond of any point reaching the node.
+    pub strength: f64,
+    /// Σ normal force over bodies.
+    pub force: f64,
+    /// Σ interface length over bodies.
+    pub length: f64,
+    /// The normal traction of the intact bond, smoothed along the interface
+    /// ([`crate::bond::smooth`]).
+    pub traction: f64,
+}
+
 /// The whole grid's sums, column-major over stored nodes.
 #[derive(Clone, Debug, Default)]
 pub struct Global {
@@ -125,18 +166,26 @@ pub struct Global {
     pub dims: [usize; 2],
     /// Node sums.
     pub nodes: Vec<GlobalNode>,
+    /// Bonded-interface sums, same indexing (empty when no law bonds).
+    pub bond: Vec<GlobalBond>,
 }
 
 /// Columns per parallel band when summing patches.
 const BAND: usize = 16;
 
 impl Global {
-    /// Sized for `grid`, zeroed.
-    pub fn new(grid: &Grid) -> Self {
+    /// Sized for `grid`, zeroed; with the bond sums if `bonds`.
+    pub fn new(grid: &Grid, bonds: bool) -> Self {
         let dims = grid.stored();
+        let n = dims[0] * dims[1];
         Global {
             dims,
-            nodes: vec![GlobalNode::default(); dims[0] * dims[1]],
+            nodes: vec![GlobalNode::default(); n],
+            bond: if bonds {
+                vec![GlobalBond::default(); n]
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -145,6 +194,9 @@ impl Global {
     /// do not depend on the thread count.
     pub fn accumulate(&mut self, patches: &[Patch], rigid: &[bool], momentum_only: bool) {
         let rows = self.dims[1];
+        if !momentum_only && !self.bond.is_empty() {
+            self.accumulate_bonds(patches, false);
+        }
         self.nodes
             .par_chunks_mut(BAND * rows)
             .enumerate()
@@ -200,6 +252,44 @@ impl Global {
             });
     }
 
+    /// Sums the patches' bond records (bodies in index order): the stress sums and
+    /// strengths, or (`forces`) only the forces and lengths.
+    pub fn accumulate_bonds(&mut self, patches: &[Patch], forces: bool) {
+        let rows = self.dims[1];
+        self.bond
+            .par_chunks_mut(BAND * rows)
+            .enumerate()
+            .for_each(|(band, chunk)| {
+                let c0 = band * BAND;
+                let c1 = c0 + chunk.len() / rows;
+                for g in chunk.iter_mut() {
+                    if forces {
+                        (g.force, g.length) = (0.0, 0.0);
+                    } else {
+                        *g = GlobalBond::default();
+                    }
+                }
+                for patch in patches.iter().filter(|p| !p.bond.is_empty()) {
+                    let (p0, p1) = patch.columns();
+                    for col in c0.max(p0)..c1.min(p1) {
+                        let src = &patch.bond[(col - p0) * patch.size[1]..][..patch.size[1]];
+                        let dst = &mut chunk[(col - c0) * rows + patch.lo[1]..][..patch.size[1]];
+                        for (g, n) in dst.iter_mut().zip(src) {
+                            if forces {
+                                g.force += n.force;
+                                g.length += n.length;
+                                continue;
+                            }
+                            for c in 0..3 {
+                                g.ms[c] += n.ms[c];
+                            }
+                            g.strength = g.strength.max(n.strength);
+                        }
+                    }
+                }
+            });
+    }
+
     /// Global index of a stored node.
     #[inline]
     pub fn index(&self, col: usize, row: usize) -> usize {
@@ -219,16 +309,16 @@ mod tests {
             cells: [40, 3],
         };
         let mut patches = vec![Patch::default(), Patch::default(), Patch::default()];
-        patches[0].reset([2, 1], [20, 4], false);
-        patches[1].reset([18, 0], [30, 3], false);
-        patches[2].reset([19, 1], [21, 2], false);
+        patches[0].reset([2, 1], [20, 4], false, false);
+        patches[1].reset([18, 0], [30, 3], false, false);
+        patches[2].reset([19, 1], [21, 2], false, false);
         for (b, p) in patches.iter_mut().enumerate() {
             for n in &mut p.nodes {
                 n.m = 1.0 + b as f64;
                 n.p = DVec2::new(b as f64, 1.0);
             }
         }
-        let mut g = Global::new(&grid);
+        let mut g = Global::new(&grid, false);
         g.accumulate(&patches, &[false, false, true], false);
         let at = g.nodes[g.index(19, 1)];
         assert_eq!(at.count, 3);

@@ -1,9 +1,12 @@
 //! Material points, stored per field, kept sorted by (body, strip, cell) so that each
 //! body's points are contiguous and each body splits into strips of grid columns that
 //! can be scattered to the grid in parallel without two threads touching one node.
+//! Internal state (plastic strain, Maxwell branches, bond strength, energy accounts) is
+//! stored per field like the rest; a model reads only the fields it needs.
 
 use crate::grid::Grid;
 use crate::material::Stress;
+use crate::models::MaterialView;
 use glam::{DMat2, DVec2};
 
 /// Width of a strip in cells.
@@ -33,6 +36,20 @@ pub struct Particles {
     pub def: Vec<DMat2>,
     /// Cauchy stress.
     pub stress: Vec<Stress>,
+    /// Equivalent plastic strain ε̄ᵖ (J2 bodies; 0 elsewhere).
+    pub plastic: Vec<f64>,
+    /// Energy dissipated by plastic work and viscosity (J per unit thickness).
+    pub dissipated: Vec<f64>,
+    /// Work done by the point's thermal strain, −∫ tr σ α dT V (J per unit thickness).
+    pub thermal_work: Vec<f64>,
+    /// Interfacial bond strength (Pa) the point carries; lowered, and remembered, where
+    /// the bonded interface fails. See [`crate::bond`].
+    pub bond: Vec<f64>,
+    /// Maxwell branch deviatoric stresses (xx, yy, xy), `branch_width` per point.
+    pub branches: Vec<[f64; 3]>,
+    /// Branches stored per point: the most any body's material needs (0 without Maxwell
+    /// bodies). Set by [`Particles::set_branch_width`].
+    pub branch_width: usize,
 }
 
 /// Where each body's points and each of its strips sit in the sorted arrays.
@@ -66,6 +83,49 @@ impl Particles {
         self.vel.push(vel);
         self.def.push(DMat2::IDENTITY);
         self.stress.push(Stress::default());
+        self.plastic.push(0.0);
+        self.dissipated.push(0.0);
+        self.thermal_work.push(0.0);
+        self.bond.push(0.0);
+        self.branches
+            .extend(std::iter::repeat_n([0.0; 3], self.branch_width));
+    }
+
+    /// Stores `width` Maxwell branches per point. Existing branch stresses are kept
+    /// (padded with zeros or cut) point by point.
+    pub fn set_branch_width(&mut self, width: usize) {
+        if width == self.branch_width && self.branches.len() == width * self.len() {
+            return;
+        }
+        let old = self.branch_width;
+        let mut b = vec![[0.0; 3]; width * self.len()];
+        for i in 0..self.len() {
+            for k in 0..width.min(old) {
+                b[i * width + k] = self.branches.get(i * old + k).copied().unwrap_or_default();
+            }
+        }
+        self.branches = b;
+        self.branch_width = width;
+    }
+
+    /// Point `i`'s branch stresses.
+    pub fn branches_of(&self, i: usize) -> &[[f64; 3]] {
+        &self.branches[i * self.branch_width..][..self.branch_width]
+    }
+
+    /// The fields a stress update touches, for points `[start, end)`.
+    pub fn material_view(&mut self, start: usize, end: usize) -> MaterialView<'_> {
+        let w = self.branch_width;
+        MaterialView {
+            vol0: &self.vol0[start..end],
+            def: &mut self.def[start..end],
+            stress: &mut self.stress[start..end],
+            plastic: &mut self.plastic[start..end],
+            dissipated: &mut self.dissipated[start..end],
+            thermal_work: &mut self.thermal_work[start..end],
+            branches: &mut self.branches[start * w..end * w],
+            width: w,
+        }
     }
 
     /// Current volume V₀·det F.
@@ -97,6 +157,17 @@ impl Particles {
             permute(&mut self.vel, &order);
             permute(&mut self.def, &order);
             permute(&mut self.stress, &order);
+            permute(&mut self.plastic, &order);
+            permute(&mut self.dissipated, &order);
+            permute(&mut self.thermal_work, &order);
+            permute(&mut self.bond, &order);
+            let w = self.branch_width;
+            if w > 0 {
+                self.branches = order
+                    .iter()
+                    .flat_map(|&i| self.branches[i * w..(i + 1) * w].iter().copied())
+                    .collect();
+            }
         }
         let mut layout = Layout {
             bodies: vec![(0, 0); bodies],

@@ -1,9 +1,12 @@
-//! The read-only description of an MPM run: grid, method options, materials, bodies,
-//! contact laws, walls, gravity and time step. Every stage reads it; none writes it.
+//! The read-only description of an MPM run: grid, method options, materials, bodies
+//! (with their temperature histories), contact laws, walls, gravity and time step. Every
+//! stage reads it; none writes it.
 
 use crate::grid::Grid;
 use crate::material::Material;
+use crate::particles::Particles;
 use crate::shape::ShapeFunction;
+use crate::thermal::TemperatureHistory;
 use glam::DVec2;
 use grains_core::input::InputError;
 use serde::{Deserialize, Serialize};
@@ -47,6 +50,20 @@ pub struct Body {
     pub material: usize,
     /// Free or prescribed motion.
     pub motion: Motion,
+    /// Prescribed temperature (`None`: constant, no thermal strain).
+    pub temperature: Option<TemperatureHistory>,
+}
+
+impl Body {
+    /// A deformable body at constant temperature.
+    pub fn free(name: impl Into<String>, material: usize) -> Self {
+        Body {
+            name: name.into(),
+            material,
+            motion: Motion::Free,
+            temperature: None,
+        }
+    }
 }
 
 /// What happens where two bodies' velocity fields meet at a node.
@@ -61,6 +78,19 @@ pub enum ContactLaw {
     },
     /// One velocity field: the bodies move together (bonded, no slip, no separation).
     NoSlip,
+    /// Bonded up to a normal traction `strength`, then Coulomb with `mu` (Bardenhagen et
+    /// al. 1998): where the interface's normal traction is at most the bond it moves as
+    /// one body; where it exceeds the bond, the bond there fails for good (the points
+    /// remember it); a failed interface slides with friction μ when approaching or in
+    /// compression and separates freely otherwise. See [`crate::bond`].
+    Bonded {
+        /// Bond strength (Pa, normal traction in tension), ≥ 0. The bodies' points carry
+        /// it from the start ([`crate::State::new`]).
+        strength: f64,
+        /// Friction coefficient once debonded, ≥ 0.
+        #[serde(default)]
+        mu: f64,
+    },
 }
 
 /// Contact laws for every pair of bodies: a default and per-pair overrides.
@@ -103,6 +133,22 @@ impl ContactTable {
     /// Distinct laws in use (at most 255 kept apart).
     pub fn distinct(&self) -> usize {
         self.laws.len()
+    }
+
+    /// The distinct laws.
+    pub fn laws(&self) -> &[ContactLaw] {
+        &self.laws
+    }
+
+    /// The strongest bond body `b` has with any other body (0: none).
+    pub fn bond_of(&self, b: usize) -> f64 {
+        (0..self.bodies)
+            .filter(|&c| c != b)
+            .map(|c| match self.get(b, c) {
+                ContactLaw::Bonded { strength, .. } => strength,
+                _ => 0.0,
+            })
+            .fold(0.0, f64::max)
     }
 }
 
@@ -178,10 +224,7 @@ impl Setup {
             ));
         }
         for (k, m) in self.materials.iter().enumerate() {
-            positive(format!("material[{k}].density"), m.density())?;
-            let (bulk, shear) = m.moduli();
-            positive(format!("material[{k}].bulk"), bulk)?;
-            positive(format!("material[{k}].shear"), shear)?;
+            m.validate(&format!("material[{k}]"))?;
         }
         if self.bodies.is_empty() || self.bodies.len() > u16::MAX as usize {
             return Err(InputError::new(
@@ -206,6 +249,44 @@ impl Setup {
                         "must be finite",
                     ));
                 }
+            }
+            if let Some(h) = &b.temperature {
+                h.validate(&format!("body[{k}].temperature"))?;
+            }
+        }
+        for law in self.contact.laws() {
+            match *law {
+                ContactLaw::Coulomb { mu } if !(mu.is_finite() && mu >= 0.0) => {
+                    return Err(InputError::new(
+                        "contact.mu",
+                        mu,
+                        "must be a finite number >= 0",
+                    ));
+                }
+                ContactLaw::Bonded { strength, mu } => {
+                    if !(strength.is_finite() && strength >= 0.0) {
+                        return Err(InputError::new(
+                            "contact.strength",
+                            strength,
+                            "must be a finite number >= 0",
+                        ));
+                    }
+                    if !(mu.is_finite() && mu >= 0.0) {
+                        return Err(InputError::new(
+                            "contact.mu",
+                            mu,
+                            "must be a finite number >= 0",
+                        ));
+                    }
+                    if self.bodies.len() < 2 {
+                        return Err(InputError::new(
+                            "contact.strength",
+                            strength,
+                            "a bond needs two bodies; there is only one",
+                        ));
+                    }
+                }
+                _ => {}
             }
         }
         for (k, w) in self.walls.iter().enumerate() {
@@ -232,5 +313,163 @@ impl Setup {
     /// True if some node can hold two bodies' fields, i.e. contact must be resolved.
     pub fn multi_body(&self) -> bool {
         self.bodies.len() > 1
+    }
+
+    /// True if some pair of bodies is bonded.
+    pub fn bonds(&self) -> bool {
+        self.multi_body()
+            && self
+                .contact
+                .laws()
+                .iter()
+                .any(|l| matches!(l, ContactLaw::Bonded { .. }))
+    }
+
+    /// Maxwell branches each point must store: the most any body's material has.
+    pub fn branch_width(&self) -> usize {
+        self.bodies
+            .iter()
+            .map(|b| self.materials[b.material].branches())
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// Gives every point the bond strength of its body ([`ContactTable::bond_of`]) and
+    /// the storage its material's state needs.
+    pub fn prepare_points(&self, p: &mut Particles) {
+        p.set_branch_width(self.branch_width());
+        let bond: Vec<f64> = (0..self.bodies.len())
+            .map(|b| self.contact.bond_of(b))
+            .collect();
+        for i in 0..p.len() {
+            p.bond[i] = bond[p.body[i] as usize];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::PronyTerm;
+
+    fn two_bodies(law: ContactLaw) -> Setup {
+        let m = Material::LinearElastic {
+            name: "m".into(),
+            density: 1.0,
+            bulk: 1.0,
+            shear: 0.5,
+            expansion: 0.0,
+        };
+        Setup {
+            grid: Grid {
+                lo: DVec2::ZERO,
+                h: 0.1,
+                cells: [10, 10],
+            },
+            shape: ShapeFunction::Gimp,
+            half_width: 0.25,
+            scheme: UpdateScheme::Usf,
+            flip: 1.0,
+            pass1_to_particles: true,
+            materials: vec![m],
+            bodies: vec![Body::free("a", 0), Body::free("b", 0)],
+            contact: ContactTable::new(2, law),
+            separation: None,
+            walls: [None; 4],
+            gravity: DVec2::ZERO,
+        }
+    }
+
+    #[test]
+    fn bad_input_names_key_and_value() {
+        let bonded = |strength, mu| ContactLaw::Bonded { strength, mu };
+        assert!(two_bodies(bonded(1.0, 0.3)).validate().is_ok());
+        let e = two_bodies(bonded(-1.0, 0.3)).validate().unwrap_err();
+        assert_eq!(
+            (e.key.as_str(), e.value.as_str()),
+            ("contact.strength", "-1")
+        );
+        let e = two_bodies(bonded(1.0, f64::NAN)).validate().unwrap_err();
+        assert_eq!(e.key, "contact.mu");
+        // A bond with no partner.
+        let mut s = two_bodies(bonded(2.0, 0.0));
+        s.bodies.pop();
+        s.contact = ContactTable::new(1, bonded(2.0, 0.0));
+        let e = s.validate().unwrap_err();
+        assert_eq!(e.key, "contact.strength");
+        assert!(e.allowed.contains("two bodies"), "{e}");
+        // Temperature table out of order.
+        let mut s = two_bodies(ContactLaw::NoSlip);
+        s.bodies[1].temperature = Some(TemperatureHistory::Table {
+            points: vec![[0.0, 300.0], [1.0, 310.0], [0.5, 320.0]],
+        });
+        let e = s.validate().unwrap_err();
+        assert_eq!(e.key, "body[1].temperature.points[2]");
+        assert_eq!(e.value, "[0.5, 320.0]");
+        // A material's own parameters.
+        let mut s = two_bodies(ContactLaw::NoSlip);
+        s.materials[0] = Material::Maxwell {
+            name: "binder".into(),
+            density: 1.0,
+            bulk: 1.0,
+            shear: 0.0,
+            prony: vec![PronyTerm {
+                shear: 1.0,
+                time: f64::INFINITY,
+            }],
+            expansion: 0.0,
+        };
+        let e = s.validate().unwrap_err();
+        assert_eq!(e.key, "material[0].prony[0].time");
+        assert_eq!(
+            e.to_string(),
+            "material[0].prony[0].time = inf: must be a finite number > 0"
+        );
+    }
+
+    #[test]
+    fn points_take_their_bodies_bond_and_branch_storage() {
+        let mut s = two_bodies(ContactLaw::Coulomb { mu: 0.1 });
+        s.materials.push(Material::Maxwell {
+            name: "binder".into(),
+            density: 1.0,
+            bulk: 1.0,
+            shear: 0.0,
+            prony: vec![
+                PronyTerm {
+                    shear: 1.0,
+                    time: 1.0
+                };
+                3
+            ],
+            expansion: 0.0,
+        });
+        s.bodies.push(Body::free("binder", 1));
+        s.contact = ContactTable::new(3, ContactLaw::Coulomb { mu: 0.1 });
+        s.contact.set(
+            0,
+            2,
+            ContactLaw::Bonded {
+                strength: 5.0,
+                mu: 0.3,
+            },
+        );
+        s.contact.set(
+            1,
+            2,
+            ContactLaw::Bonded {
+                strength: 7.0,
+                mu: 0.3,
+            },
+        );
+        let mut p = Particles::default();
+        for b in [0, 1, 2, 2] {
+            p.push(b, 1.0, 1.0, DVec2::splat(0.5), DVec2::ZERO);
+        }
+        s.prepare_points(&mut p);
+        assert_eq!(p.bond, vec![5.0, 7.0, 7.0, 7.0]);
+        assert_eq!(p.branch_width, 3);
+        assert_eq!(p.branches.len(), 12);
+        assert!(s.bonds());
     }
 }

@@ -1,17 +1,22 @@
 //! One explicit MPM step, as a fixed sequence of named stages:
 //!
 //! `prepare → p2g → correct(interpolated) → [usf: stress_first] → integrate →
-//!  correct(integrated) → grid_velocities → g2p → [musl: remap → correct → stress_last]`
+//!  correct(integrated) → grid_velocities → g2p → [musl: remap → correct → stress_last]
+//!  → [bonds failed: forget_bonds]`
 //!
 //! State is the points ([`State`]); the [`Solver`] only holds scratch space (patches, the
-//! global sums, the sort layout) that is rebuilt every step.
+//! global sums, the sort layout) that is rebuilt every step. Every stress pass prepares
+//! each body's material once for its time window (step length, temperature change) and
+//! runs a kernel compiled for that model.
 
-use crate::contact::{self, Pass, Touch};
+use crate::contact::{self, Others, Pass, Touch};
+use crate::models::{with_model, ElasticStep, Prepared};
 use crate::nodes::{Global, Kin, Patch};
 use crate::particles::{Layout, Particles};
 use crate::setup::{Motion, Setup, UpdateScheme};
 use crate::shape::{Bspline2, Gimp, Kernel, Linear, ShapeFunction};
-use crate::tasks::{fields, source, split_cache, split_points, views};
+use crate::tasks::{source, split, split_cache, split_points, views};
+use crate::thermal::Thermal;
 use crate::transfer::{self, Place, Seen, Stencil};
 use glam::DVec2;
 use rayon::prelude::*;
@@ -27,6 +32,18 @@ pub struct State {
     pub step: u64,
     /// Per body: what its fields were corrected against in the last step.
     pub touch: Vec<Touch>,
+}
+
+impl State {
+    /// A fresh state at t = 0 for `setup`: the points get their bodies' bond strengths
+    /// and the storage their materials' internal state needs.
+    pub fn new(setup: &Setup, mut particles: Particles) -> Self {
+        setup.prepare_points(&mut particles);
+        State {
+            particles,
+            ..Default::default()
+        }
+    }
 }
 
 /// Why a step could not be taken.
@@ -47,12 +64,15 @@ pub struct Solver {
     pub global: Option<Global>,
     next: Vec<DVec2>,
     stencils: Vec<Stencil>,
+    density: Vec<f64>,
 }
 
 impl Solver {
-    /// Scratch for `setup`; sorts the points.
+    /// Scratch for `setup`; sorts the points (and sizes their Maxwell branch storage if
+    /// the state was not made by [`State::new`]).
     pub fn new(setup: &Setup, state: &mut State) -> Self {
         let nb = setup.bodies.len();
+        state.particles.set_branch_width(setup.branch_width());
         let mut w = Solver {
             layout: state.particles.sort(&setup.grid, nb),
             resort: false,
@@ -63,7 +83,14 @@ impl Solver {
                 .map(|b| matches!(b.motion, Motion::Prescribed(_)))
                 .collect(),
             patches: vec![Patch::default(); nb],
-            global: setup.multi_body().then(|| Global::new(&setup.grid)),
+            density: setup
+                .bodies
+                .iter()
+                .map(|b| setup.materials[b.material].density())
+                .collect(),
+            global: setup
+                .multi_body()
+                .then(|| Global::new(&setup.grid, setup.bonds())),
             ..Default::default()
         };
         let p = &state.particles;
@@ -96,28 +123,44 @@ fn step_with<K: Kernel>(
     w: &mut Solver,
     dt: f64,
 ) -> Result<(), Unstable> {
+    let t = s.time;
     prepare(setup, &mut s.particles, w);
     p2g::<K>(setup, &s.particles, w);
     let mut touch = correct(setup, w, Pass::Interpolated, false, dt);
     match setup.scheme {
-        UpdateScheme::Usf => stress_first::<K>(setup, &mut s.particles, w, dt),
-        UpdateScheme::Usavg => stress_first::<K>(setup, &mut s.particles, w, 0.5 * dt),
+        UpdateScheme::Usf => stress_first::<K>(setup, &mut s.particles, w, (t, dt)),
+        UpdateScheme::Usavg => stress_first::<K>(setup, &mut s.particles, w, (t, 0.5 * dt)),
         _ => {}
     }
     integrate(setup, w, dt);
     touch = merge(touch, correct(setup, w, Pass::Integrated, true, dt));
     grid_velocities(setup, w, dt);
-    let seen = g2p::<K>(setup, &mut s.particles, w, dt);
+    let seen = g2p::<K>(setup, &mut s.particles, w, t, dt);
     if setup.scheme == UpdateScheme::Musl {
         remap::<K>(&s.particles, w);
         touch = merge(touch, correct(setup, w, Pass::Interpolated, true, dt));
         grid_velocities(setup, w, dt);
-        stress_last::<K>(setup, &mut s.particles, w, dt);
+        stress_last::<K>(setup, &mut s.particles, w, (t, dt));
+    }
+    if touch.iter().any(|t| t.debonded > 0) {
+        forget_bonds::<K>(&mut s.particles, w);
     }
     s.touch = touch;
     s.time += dt;
     s.step += 1;
     finish(setup, s, w, seen)
+}
+
+/// Each body's material prepared for a stress pass of length `len` from time `t0`.
+fn prepared(setup: &Setup, (t0, len): (f64, f64)) -> Vec<Prepared> {
+    setup
+        .bodies
+        .iter()
+        .map(|b| {
+            let th = Thermal::over(b.temperature.as_ref(), t0, t0 + len);
+            setup.materials[b.material].prepare(len, th)
+        })
+        .collect()
 }
 
 fn merge(a: Vec<Touch>, b: Vec<Touch>) -> Vec<Touch> {
@@ -141,6 +184,7 @@ fn prepare(setup: &Setup, p: &mut Particles, w: &mut Solver) {
     let grid = &setup.grid;
     let stored = grid.stored();
     let keep = setup.separation.is_some() && setup.multi_body();
+    let bonds = setup.bonds();
     w.patches
         .par_iter_mut()
         .zip(&w.bounds)
@@ -148,7 +192,7 @@ fn prepare(setup: &Setup, p: &mut Particles, w: &mut Solver) {
             let (a, z) = (grid.cell_of(lo), grid.cell_of(hi));
             // Cells [a, z] reach stored nodes [a, z + 3] (3-node stencil, one ghost).
             let hi = [(z[0] + 4).min(stored[0]), (z[1] + 4).min(stored[1])];
-            patch.reset(a, hi, keep);
+            patch.reset(a, hi, keep, bonds);
         });
 }
 
@@ -158,6 +202,7 @@ fn p2g<K: Kernel>(setup: &Setup, p: &Particles, w: &mut Solver) {
     let src = source(p);
     let force = matches!(setup.scheme, UpdateScheme::Usl | UpdateScheme::Musl);
     let grad = setup.multi_body();
+    let bonds = setup.bonds();
     let rigid = &w.rigid;
     w.stencils.resize(p.len(), Stencil::default());
     for colour in 0..2 {
@@ -172,12 +217,21 @@ fn p2g<K: Kernel>(setup: &Setup, p: &Particles, w: &mut Solver) {
                 let (b, _, start, end) = layout.strips[k];
                 let r = (start, end);
                 let v = &mut view;
-                match (force && !rigid[b as usize], grad) {
-                    (true, true) => transfer::scatter::<K, true, true>(&place, src, r, v, cache),
-                    (true, false) => transfer::scatter::<K, true, false>(&place, src, r, v, cache),
-                    (false, true) => transfer::scatter::<K, false, true>(&place, src, r, v, cache),
-                    (false, false) => {
-                        transfer::scatter::<K, false, false>(&place, src, r, v, cache)
+                use transfer::scatter;
+                match (force && !rigid[b as usize], grad, bonds) {
+                    (true, true, true) => scatter::<K, true, true, true>(&place, src, r, v, cache),
+                    (true, true, false) => {
+                        scatter::<K, true, true, false>(&place, src, r, v, cache)
+                    }
+                    (false, true, true) => {
+                        scatter::<K, false, true, true>(&place, src, r, v, cache)
+                    }
+                    (false, true, false) => {
+                        scatter::<K, false, true, false>(&place, src, r, v, cache)
+                    }
+                    (true, false, _) => scatter::<K, true, false, false>(&place, src, r, v, cache),
+                    (false, false, _) => {
+                        scatter::<K, false, false, false>(&place, src, r, v, cache)
                     }
                 }
             });
@@ -197,9 +251,21 @@ fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool, dt: f
     }
     if let Some(g) = &mut w.global {
         g.accumulate(&w.patches, &w.rigid, momentum_only);
+        if pass == Pass::Integrated && !g.bond.is_empty() {
+            // The forces the intact bonds carry, summed and smoothed along the interface
+            // before any bond is tested.
+            let others = others(setup, g, &w.density);
+            w.patches
+                .par_iter_mut()
+                .enumerate()
+                .filter(|(b, patch)| !w.rigid[*b] && !patch.bond.is_empty())
+                .for_each(|(b, patch)| contact::bond_forces(b as u16, patch, &others, dt));
+            g.accumulate_bonds(&w.patches, true);
+            crate::bond::smooth(g);
+        }
     }
     let global = w.global.as_ref();
-    let rigid = &w.rigid;
+    let (rigid, density) = (&w.rigid, &w.density);
     w.patches
         .par_iter_mut()
         .enumerate()
@@ -208,16 +274,7 @@ fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool, dt: f
                 return Touch::default();
             }
             let t = match global {
-                Some(g) => contact::bodies(
-                    b as u16,
-                    patch,
-                    &g.nodes,
-                    g.dims[1],
-                    &setup.contact,
-                    setup.separation,
-                    pass,
-                    dt,
-                ),
+                Some(g) => contact::bodies(b as u16, patch, &others(setup, g, density), pass, dt),
                 None => Touch::default(),
             };
             t.merge(contact::walls(patch, &setup.grid, &setup.walls, pass, dt))
@@ -225,9 +282,22 @@ fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool, dt: f
         .collect()
 }
 
+/// What a body's contact correction reads besides its patch.
+fn others<'a>(setup: &'a Setup, g: &'a Global, density: &'a [f64]) -> Others<'a> {
+    Others {
+        global: &g.nodes,
+        bond: &g.bond,
+        rows: g.dims[1],
+        table: &setup.contact,
+        separation: setup.separation,
+        density,
+    }
+}
+
 /// USF (and USAVG's first half): strain rate from the corrected interpolated
-/// velocities, stress over `dt`, internal force.
-fn stress_first<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt: f64) {
+/// velocities, stress over the time `window` (start, length), internal force.
+fn stress_first<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, window: (f64, f64)) {
+    let models = prepared(setup, window);
     w.patches.par_iter_mut().for_each(|patch| {
         for (n, k) in patch.nodes.iter().zip(patch.kin.iter_mut()) {
             k.v = if n.m > 0.0 { n.p / n.m } else { DVec2::ZERO };
@@ -236,12 +306,7 @@ fn stress_first<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt:
     for colour in 0..2 {
         let layout = &w.layout;
         let stencils = &w.stencils;
-        let vol0 = &p.vol0;
-        let mut pts = split_points(
-            (&mut p.pos, &mut p.vel, &mut p.def, &mut p.stress),
-            layout,
-            None,
-        );
+        let mut pts = split_points(p, layout, None);
         let mut views = views(&mut w.patches, layout, colour);
         let jobs: Vec<_> = views
             .iter_mut()
@@ -251,9 +316,11 @@ fn stress_first<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt:
             let (b, _, start, end) = layout.strips[k];
             let body = &setup.bodies[b as usize];
             if let (Motion::Free, Some(mut pts)) = (body.motion, pts) {
-                let m = &setup.materials[body.material];
                 let cache = &stencils[start..end];
-                transfer::stress_and_force::<K>(m, dt, &vol0[start..], &mut pts, view, cache);
+                let mat = &mut pts.mat;
+                with_model!(&models[b as usize], m => {
+                    transfer::stress_and_force::<K, _>(m, mat, view, cache)
+                });
             }
         });
     }
@@ -299,19 +366,32 @@ fn grid_velocities(setup: &Setup, w: &mut Solver, dt: f64) {
     });
 }
 
-/// Grid to particles: velocity, position and (USL) stress.
-fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt: f64) -> Seen {
+/// Grid to particles: velocity, position and (USL, USAVG's second half) stress.
+fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, t: f64, dt: f64) -> Seen {
     let place = place(setup);
     let hi = setup.grid.hi();
     let musl = setup.scheme == UpdateScheme::Musl;
     if musl {
         w.next.resize(p.len(), DVec2::ZERO);
     }
+    let stress = match setup.scheme {
+        UpdateScheme::Usl => Some((t, dt)),
+        UpdateScheme::Usavg => Some((t + 0.5 * dt, 0.5 * dt)),
+        _ => None,
+    };
+    let models = stress.map(|window| prepared(setup, window));
+    // Without a stress update the model is never called: one instantiation serves all.
+    let none = ElasticStep {
+        dt,
+        bulk: 0.0,
+        shear: 0.0,
+        dth: 0.0,
+    };
     let layout = &w.layout;
     let patches = &w.patches;
     let stencils = &w.stencils;
     let next = musl.then_some(&mut w.next[..]);
-    let pts = split_points(fields(p), layout, next);
+    let pts = split_points(p, layout, next);
     let seen: Vec<(u16, Seen)> = pts
         .into_par_iter()
         .enumerate()
@@ -323,47 +403,15 @@ fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt: f64) -> 
             let view = (&patch.kin[..], patch.lo, patch.size[1]);
             let strip = strip as usize;
             let cache = &stencils[start..end];
-            let seen = match body.motion {
-                Motion::Prescribed(v) => transfer::move_rigid(&place, hi, v, dt, strip, &mut pts),
-                Motion::Free => {
-                    let m = &setup.materials[body.material];
-                    let f = setup.flip;
-                    match setup.scheme {
-                        UpdateScheme::Usl => transfer::gather::<K, true>(
-                            &place,
-                            hi,
-                            m,
-                            (dt, dt),
-                            f,
-                            view,
-                            strip,
-                            &mut pts,
-                            cache,
-                        ),
-                        UpdateScheme::Usavg => transfer::gather::<K, true>(
-                            &place,
-                            hi,
-                            m,
-                            (dt, 0.5 * dt),
-                            f,
-                            view,
-                            strip,
-                            &mut pts,
-                            cache,
-                        ),
-                        _ => transfer::gather::<K, false>(
-                            &place,
-                            hi,
-                            m,
-                            (dt, dt),
-                            f,
-                            view,
-                            strip,
-                            &mut pts,
-                            cache,
-                        ),
-                    }
-                }
+            let (f, pts) = (setup.flip, &mut pts);
+            let seen = match (body.motion, &models) {
+                (Motion::Prescribed(v), _) => transfer::move_rigid(&place, hi, v, dt, strip, pts),
+                (Motion::Free, Some(models)) => with_model!(&models[b as usize], m => {
+                    transfer::gather::<K, _, true>(&place, hi, m, dt, f, view, strip, pts, cache)
+                }),
+                (Motion::Free, None) => transfer::gather::<K, _, false>(
+                    &place, hi, &none, dt, f, view, strip, pts, cache,
+                ),
             };
             (b, seen)
         })
@@ -401,12 +449,15 @@ fn remap<K: Kernel>(p: &Particles, w: &mut Solver) {
     }
 }
 
-/// MUSL: stress from the re-mapped grid velocities, then the points move.
-fn stress_last<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt: f64) {
+/// MUSL: stress from the re-mapped grid velocities over the time `window` (start,
+/// length), then the
+/// points move.
+fn stress_last<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, window: (f64, f64)) {
+    let models = prepared(setup, window);
     let layout = &w.layout;
     let patches = &w.patches;
     let stencils = &w.stencils;
-    let pts = split_points(fields(p), layout, Some(&mut w.next[..]));
+    let pts = split_points(p, layout, Some(&mut w.next[..]));
     pts.into_par_iter().enumerate().for_each(|(k, pts)| {
         let mut pts = pts.expect("one piece per strip");
         let (b, _, start, end) = layout.strips[k];
@@ -414,10 +465,11 @@ fn stress_last<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt: 
         let patch = &patches[b as usize];
         match body.motion {
             Motion::Free => {
-                let m = &setup.materials[body.material];
                 let view = (&patch.kin[..], patch.lo, patch.size[1]);
                 let cache = &stencils[start..end];
-                transfer::gather_stress::<K>(m, dt, view, &mut pts, cache);
+                with_model!(&models[b as usize], m => {
+                    transfer::gather_stress::<K, _>(m, view, &mut pts, cache)
+                });
             }
             Motion::Prescribed(_) => {
                 let next = pts.next.take().expect("MUSL keeps the new positions apart");
@@ -425,6 +477,21 @@ fn stress_last<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, dt: 
             }
         }
     });
+}
+
+/// Points with weight at a node where their body's bond failed this step lose their bond.
+fn forget_bonds<K: Kernel>(p: &mut Particles, w: &Solver) {
+    let layout = &w.layout;
+    split(&mut p.bond, layout, 1)
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(k, bond)| {
+            let (b, _, start, end) = layout.strips[k];
+            let patch = &w.patches[b as usize];
+            if !patch.bond.is_empty() {
+                crate::bond::forget::<K>(bond, &w.stencils[start..end], patch);
+            }
+        });
 }
 
 /// Decides whether the next step needs a re-sort, and stops on escaped points.

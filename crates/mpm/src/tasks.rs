@@ -2,11 +2,23 @@
 //! its own slice of the points' fields, of the stencil cache and (for scatters, one
 //! colour at a time) of its body's grid patch, so tasks never share what they write.
 
-use crate::material::Stress;
-use crate::nodes::{Kin, Node, Patch};
+use crate::models::MaterialView;
+use crate::nodes::{BondNode, Kin, Node, Patch};
 use crate::particles::{strip_columns, Layout, Particles};
 use crate::transfer::{Points, Source, Stencil, View};
-use glam::{DMat2, DVec2};
+use glam::DVec2;
+
+/// Skips `skip` entries of `rest` and hands out the next `take`; an empty `rest` (an
+/// optional field not kept) hands out empty slices.
+fn carve<'a, T>(rest: &mut &'a mut [T], skip: usize, take: usize) -> &'a mut [T] {
+    if rest.is_empty() {
+        return &mut [];
+    }
+    let (_, r) = std::mem::take(rest).split_at_mut(skip);
+    let (mine, r) = r.split_at_mut(take);
+    *rest = r;
+    mine
+}
 
 /// The same-colour strips' windows onto the patches, with the layout entry they serve.
 pub fn views<'a>(patches: &'a mut [Patch], layout: &Layout, colour: u32) -> Vec<(usize, View<'a>)> {
@@ -23,8 +35,8 @@ pub fn views<'a>(patches: &'a mut [Patch], layout: &Layout, colour: u32) -> Vec<
         let (p0, p1) = patch.columns();
         let mut nodes: &mut [Node] = &mut patch.nodes;
         let mut kin: &mut [Kin] = &mut patch.kin;
-        let keep = !patch.xs.is_empty();
         let mut xs: &mut [DVec2] = &mut patch.xs;
+        let mut bond: &mut [BondNode] = &mut patch.bond;
         let mut cur = p0;
         while let Some(&(k, &(sb, strip, _, _))) = strips.peek() {
             if sb as usize != b {
@@ -33,32 +45,18 @@ pub fn views<'a>(patches: &'a mut [Patch], layout: &Layout, colour: u32) -> Vec<
             strips.next();
             let (a, z) = strip_columns(strip as usize);
             let (a, z) = (a.max(cur), z.min(p1).max(a.max(cur)));
-            let (_, rest) = std::mem::take(&mut nodes).split_at_mut((a - cur) * rows);
-            let (mine, rest) = rest.split_at_mut((z - a) * rows);
-            nodes = rest;
-            let (_, krest) = std::mem::take(&mut kin).split_at_mut((a - cur) * rows);
-            let (kmine, krest) = krest.split_at_mut((z - a) * rows);
-            kin = krest;
-            let xmine = if keep {
-                let (_, xrest) = std::mem::take(&mut xs).split_at_mut((a - cur) * rows);
-                let (xmine, xrest) = xrest.split_at_mut((z - a) * rows);
-                xs = xrest;
-                xmine
-            } else {
-                &mut []
+            let (skip, take) = ((a - cur) * rows, (z - a) * rows);
+            let view = View {
+                col0: a,
+                row0,
+                rows,
+                nodes: carve(&mut nodes, skip, take),
+                kin: carve(&mut kin, skip, take),
+                xs: carve(&mut xs, skip, take),
+                bond: carve(&mut bond, skip, take),
             };
             cur = z;
-            out.push((
-                k,
-                View {
-                    col0: a,
-                    row0,
-                    rows,
-                    nodes: mine,
-                    kin: kmine,
-                    xs: xmine,
-                },
-            ));
+            out.push((k, view));
         }
     }
     out
@@ -72,7 +70,22 @@ pub fn source(p: &Particles) -> Source<'_> {
         vel: &p.vel,
         def: &p.def,
         stress: &p.stress,
+        bond: &p.bond,
     }
+}
+
+/// Splits `v` (`width` entries per point) into one piece per strip of the layout.
+pub fn split<'a, T>(v: &'a mut [T], layout: &Layout, width: usize) -> Vec<&'a mut [T]> {
+    let mut rest = v;
+    layout
+        .strips
+        .iter()
+        .map(|&(_, _, start, end)| {
+            let (a, r) = std::mem::take(&mut rest).split_at_mut((end - start) * width);
+            rest = r;
+            a
+        })
+        .collect()
 }
 
 /// The stencil cache split into one piece per strip of the layout.
@@ -80,61 +93,51 @@ pub fn split_cache<'a>(
     cache: &'a mut [Stencil],
     layout: &Layout,
 ) -> Vec<Option<&'a mut [Stencil]>> {
-    let mut rest = cache;
-    layout
-        .strips
-        .iter()
-        .map(|&(_, _, start, end)| {
-            let (a, r) = std::mem::take(&mut rest).split_at_mut(end - start);
-            rest = r;
-            Some(a)
-        })
-        .collect()
-}
-
-/// The mutable point fields a gather splits.
-pub type Fields<'a> = (
-    &'a mut [DVec2],
-    &'a mut [DVec2],
-    &'a mut [DMat2],
-    &'a mut [Stress],
-);
-
-pub fn fields(p: &mut Particles) -> Fields<'_> {
-    (&mut p.pos, &mut p.vel, &mut p.def, &mut p.stress)
+    split(cache, layout, 1).into_iter().map(Some).collect()
 }
 
 /// Splits the points' mutable fields into one piece per strip of the layout.
 pub fn split_points<'a>(
-    fields: Fields<'a>,
+    p: &'a mut Particles,
     layout: &Layout,
     next: Option<&'a mut [DVec2]>,
 ) -> Vec<Option<Points<'a>>> {
-    let (mut pos, mut vel, mut def, mut stress) = fields;
-    let mut next = next;
-    let mut out = Vec::with_capacity(layout.strips.len());
-    for &(_, _, start, end) in &layout.strips {
-        let n = end - start;
-        let (a, r) = std::mem::take(&mut pos).split_at_mut(n);
-        pos = r;
-        let (b, r) = std::mem::take(&mut vel).split_at_mut(n);
-        vel = r;
-        let (c, r) = std::mem::take(&mut def).split_at_mut(n);
-        def = r;
-        let (d, r) = std::mem::take(&mut stress).split_at_mut(n);
-        stress = r;
-        let e = next.take().map(|nx| {
-            let (e, r) = nx.split_at_mut(n);
-            next = Some(r);
-            e
-        });
-        out.push(Some(Points {
-            pos: a,
-            vel: b,
-            def: c,
-            stress: d,
-            next: e,
-        }));
-    }
-    out
+    let w = p.branch_width;
+    let vol0 = &p.vol0;
+    let mut pos = split(&mut p.pos, layout, 1).into_iter();
+    let mut vel = split(&mut p.vel, layout, 1).into_iter();
+    let mut def = split(&mut p.def, layout, 1).into_iter();
+    let mut stress = split(&mut p.stress, layout, 1).into_iter();
+    let mut plastic = split(&mut p.plastic, layout, 1).into_iter();
+    let mut dissipated = split(&mut p.dissipated, layout, 1).into_iter();
+    let mut thermal = split(&mut p.thermal_work, layout, 1).into_iter();
+    let mut branches = split(&mut p.branches, layout, w).into_iter();
+    let mut next = next.map(|n| split(n, layout, 1).into_iter());
+    layout
+        .strips
+        .iter()
+        .map(|&(_, _, start, end)| {
+            let mut take = || -> Option<Points<'a>> {
+                Some(Points {
+                    pos: pos.next()?,
+                    vel: vel.next()?,
+                    mat: MaterialView {
+                        vol0: &vol0[start..end],
+                        def: def.next()?,
+                        stress: stress.next()?,
+                        plastic: plastic.next()?,
+                        dissipated: dissipated.next()?,
+                        thermal_work: thermal.next()?,
+                        branches: branches.next()?,
+                        width: w,
+                    },
+                    next: match next.as_mut() {
+                        Some(n) => Some(n.next()?),
+                        None => None,
+                    },
+                })
+            };
+            take()
+        })
+        .collect()
 }

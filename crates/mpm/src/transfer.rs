@@ -3,8 +3,9 @@
 //! task on that strip's own slice of the body's patch; gathers only read the grid.
 
 use crate::grid::GHOST;
-use crate::material::{Material, Stress};
-use crate::nodes::{Kin, Node};
+use crate::material::Stress;
+use crate::models::{MaterialView, Model};
+use crate::nodes::{BondNode, Kin, Node};
 use crate::particles::within_strip;
 use crate::shape::Kernel;
 use crate::simd::multiversion;
@@ -73,6 +74,8 @@ pub struct View<'a> {
     pub kin: &'a mut [Kin],
     /// Σ S m x, or empty when positions are not kept.
     pub xs: &'a mut [DVec2],
+    /// Interface stress and bond sums, or empty when no contact law bonds.
+    pub bond: &'a mut [BondNode],
 }
 
 impl View<'_> {
@@ -97,12 +100,17 @@ pub struct Source<'a> {
     pub def: &'a [DMat2],
     /// Stresses.
     pub stress: &'a [Stress],
+    /// Bond strengths.
+    pub bond: &'a [f64],
 }
 
 multiversion! {
-/// P2G of mass and momentum, plus (`FORCE`) the internal force −V σ·∇S and (`GRAD`) the
-/// contact geometry: mass gradient Σ m ∇S and, if kept, Σ S m x, for points `range`.
-pub fn scatter[K: Kernel, const FORCE: bool, const GRAD: bool][K, FORCE, GRAD](
+/// P2G of mass and momentum, plus (`FORCE`) the internal force −V σ·∇S, (`GRAD`) the
+/// contact geometry: mass gradient Σ m ∇S and, if kept, Σ S m x, and (`BOND`, with
+/// `GRAD`) what a bonded interface needs: Σ S m σ and the largest bond of the points that
+/// reach each node, for points `range`.
+#[allow(clippy::too_many_arguments)]
+pub fn scatter[K: Kernel, const FORCE: bool, const GRAD: bool, const BOND: bool][K, FORCE, GRAD, BOND](
     place: &Place,
     src: Source,
     range: (usize, usize),
@@ -123,6 +131,23 @@ pub fn scatter[K: Kernel, const FORCE: bool, const GRAD: bool][K, FORCE, GRAD](
             (0.0, 0.0, 0.0)
         };
         let first = view.at(&s, 0, 0);
+        if BOND {
+            let st = src.stress[i];
+            let ms = [m * st.xx, m * st.yy, m * st.xy];
+            let bond = src.bond[i];
+            for a in 0..K::N {
+                for b in 0..K::N {
+                    let w = s.wx[a] * s.wy[b];
+                    let n = &mut view.bond[first + a * view.rows + b];
+                    for c in 0..3 {
+                        n.ms[c] += w * ms[c];
+                    }
+                    if w > 0.0 {
+                        n.strength = n.strength.max(bond);
+                    }
+                }
+            }
+        }
         for a in 0..K::N {
             let col = &mut view.nodes[first + a * view.rows..][..K::N];
             for b in 0..K::N {
@@ -202,10 +227,8 @@ pub struct Points<'a> {
     pub pos: &'a mut [DVec2],
     /// Velocities.
     pub vel: &'a mut [DVec2],
-    /// Deformation gradients.
-    pub def: &'a mut [DMat2],
-    /// Stresses.
-    pub stress: &'a mut [Stress],
+    /// What the material updates: F, σ and the internal state.
+    pub mat: MaterialView<'a>,
     /// Where new positions go when the old ones are still needed (MUSL).
     pub next: Option<&'a mut [DVec2]>,
 }
@@ -213,19 +236,17 @@ pub struct Points<'a> {
 multiversion! {
 /// USF: gathers the strain rate from the interpolated velocities, updates the stress,
 /// then scatters the internal force −V σ·∇S, in one pass over the strip.
-pub fn stress_and_force[K: Kernel][K](
-    material: &Material,
-    dt: f64,
-    vol0: &[f64],
-    pts: &mut Points,
+pub fn stress_and_force[K: Kernel, M: Model][K, M](
+    model: &M,
+    pts: &mut MaterialView,
     view: &mut View,
     cache: &[Stencil],
 ) {
-    for i in 0..pts.pos.len() {
+    for i in 0..pts.def.len() {
         let s = cache[i];
         let l = velocity_gradient::<K>(&s, view.kin, view.col0, view.row0, view.rows);
-        material.update(l, dt, &mut pts.def[i], &mut pts.stress[i]);
-        let v = vol0[i] * pts.def[i].determinant();
+        model.update(l, pts, i);
+        let v = pts.vol0[i] * pts.def[i].determinant();
         let st = pts.stress[i];
         let (sxx, syy, sxy) = (st.xx * v, st.yy * v, st.xy * v);
         let first = view.at(&s, 0, 0);
@@ -292,13 +313,14 @@ impl Seen {
 
 multiversion! {
 /// The grid-to-particle update of one strip: FLIP/PIC velocity, position, and (`STRESS`,
-/// USL and USAVG) the stress from the updated grid velocity over `dt.1`.
+/// USL and USAVG) the stress from the updated grid velocity (the model carries its own
+/// step, the whole or the second half of `dt`).
 #[allow(clippy::too_many_arguments)]
-pub fn gather[K: Kernel, const STRESS: bool][K, STRESS](
+pub fn gather[K: Kernel, M: Model, const STRESS: bool][K, M, STRESS](
     place: &Place,
     hi: DVec2,
-    material: &Material,
-    dt: (f64, f64),
+    model: &M,
+    dt: f64,
     flip: f64,
     patch: (&[Kin], [usize; 2], usize),
     strip: usize,
@@ -306,7 +328,6 @@ pub fn gather[K: Kernel, const STRESS: bool][K, STRESS](
     cache: &[Stencil],
 ) -> Seen {
     let (kin, lo, rows) = patch;
-    let (dt, dt_stress) = dt;
     let mut seen = Seen::empty();
     for i in 0..pts.pos.len() {
         let x = pts.pos[i];
@@ -341,7 +362,7 @@ pub fn gather[K: Kernel, const STRESS: bool][K, STRESS](
         }
         seen.see(nx, place, hi, strip);
         if STRESS {
-            material.update(l, dt_stress, &mut pts.def[i], &mut pts.stress[i]);
+            model.update(l, &mut pts.mat, i);
         }
     }
     seen
@@ -350,9 +371,8 @@ pub fn gather[K: Kernel, const STRESS: bool][K, STRESS](
 multiversion! {
 /// MUSL's last pass: the strain rate from the re-mapped velocities at the old positions,
 /// then the positions move on.
-pub fn gather_stress[K: Kernel][K](
-    material: &Material,
-    dt: f64,
+pub fn gather_stress[K: Kernel, M: Model][K, M](
+    model: &M,
     patch: (&[Kin], [usize; 2], usize),
     pts: &mut Points,
     cache: &[Stencil],
@@ -365,7 +385,7 @@ pub fn gather_stress[K: Kernel][K](
     for i in 0..pts.pos.len() {
         let s = cache[i];
         let l = velocity_gradient::<K>(&s, kin, lo[0], lo[1], rows);
-        material.update(l, dt, &mut pts.def[i], &mut pts.stress[i]);
+        model.update(l, &mut pts.mat, i);
         pts.pos[i] = next[i];
     }
 }}

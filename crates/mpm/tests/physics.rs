@@ -17,6 +17,7 @@ fn elastic(model: &str) -> Material {
             density: 1.0,
             bulk: 1.0,
             shear: 0.5,
+            expansion: 0.0,
         },
     }
 }
@@ -56,11 +57,7 @@ fn dt(s: &Setup) -> f64 {
 }
 
 fn body(name: &str, material: usize) -> Body {
-    Body {
-        name: name.into(),
-        material,
-        motion: Motion::Free,
-    }
+    Body::free(name, material)
 }
 
 fn fill(p: &mut Particles, b: u16, g: Geometry, v: DVec2) {
@@ -292,9 +289,8 @@ fn rigid_mover_pushes_a_block_along_a_frictional_floor() {
     // block the block (an elastic spring fixed to the piston) travels with it.
     let mut bodies = vec![body("block", 0)];
     bodies.push(Body {
-        name: "piston".into(),
-        material: 0,
         motion: Motion::Prescribed(DVec2::new(0.05, 0.0)),
+        ..Body::free("piston", 0)
     });
     let mut s = setup(
         bodies,

@@ -81,12 +81,14 @@ pub fn setup(o: &Options) -> Result<(Setup, Particles, f64), String> {
         density: 1.0,
         bulk: 200.0,
         shear: 100.0,
+        expansion: 0.0,
     };
     let bodies = (0..o.bodies)
         .map(|b| Body {
             name: format!("block{b}"),
             material: 0,
             motion: Motion::Free,
+            temperature: None,
         })
         .collect();
     let s = Setup {
@@ -116,10 +118,7 @@ pub fn setup(o: &Options) -> Result<(Setup, Particles, f64), String> {
 pub fn run(o: &Options) -> Result<Report, String> {
     let (setup, p, dt) = setup(o)?;
     let threads = rayon::current_num_threads();
-    let mut state = State {
-        particles: p,
-        ..Default::default()
-    };
+    let mut state = State::new(&setup, p);
     let mut solver = Solver::new(&setup, &mut state);
     // Warm-up, as the peer script does before timing (it compiles its kernels there).
     for _ in 0..50 {

@@ -253,6 +253,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
             } else {
                 Motion::Free
             },
+            temperature: None,
         });
         areas.push(area);
         velocities.push(v);

@@ -61,10 +61,7 @@ impl Mpm {
 
     /// Starts a run from assembled points.
     pub fn new(a: &assemble::Assembled, grid_frames: bool) -> Self {
-        let mut state = State {
-            particles: a.particles.clone(),
-            ..Default::default()
-        };
+        let mut state = State::new(&a.setup, a.particles.clone());
         let solver = Solver::new(&a.setup, &mut state);
         Mpm {
             setup: a.setup.clone(),

@@ -300,7 +300,7 @@ pub fn checks(rec: &Record, cx: &Context, specs: &[CheckSpec]) -> Vec<Option<Che
                     let (gt, gn) = (along.length(), -g.dot(n));
                     let dir = along / gt;
                     let mu = match cx.setup.contact.get(bi, oi) {
-                        ContactLaw::Coulomb { mu } => mu,
+                        ContactLaw::Coulomb { mu } | ContactLaw::Bonded { mu, .. } => mu,
                         ContactLaw::NoSlip => f64::INFINITY,
                     };
                     let slide = (gt - mu * gn).max(0.0);
