@@ -214,12 +214,7 @@ fn an_unstable_run_never_passes_a_check() {
 
 #[test]
 fn check_json_reports_derived_figures() {
-    let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("s.toml");
-    std::fs::write(&file, BASE).unwrap();
-    let o = grains(&["check", file.to_str().unwrap(), "--json"]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
-    let v: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
+    let v = check_json(BASE);
     assert_eq!(v["particles"], 1);
     assert!(v["dt"].as_f64().unwrap() > 0.0);
     assert!(v["dt"].as_f64().unwrap() <= v["dt_critical"].as_f64().unwrap());

@@ -35,49 +35,8 @@ kind = "detonation_arrival"
 tolerance = 0.08
 "#;
 
-/// A 2 mm charge in a ring of 0.1 mm disks, 3 µs.
-const RING: &str = r#"
-engine = "fem_dem"
-name = "t_ring"
-
-[charge]
-explosive = "pe4"
-radius = 0.002
-
-[charge.mesh]
-size_edge = 0.15e-3
-size_centre = 0.2e-3
-
-[ring]
-material = "quartz"
-inner_radius = 0.002
-outer_radius = 0.0028
-
-[ring.packing]
-source = "lattice"
-d0 = 0.1e-3
-
-[[material]]
-name = "quartz"
-density = 2560.0
-youngs = 72.0e9
-poisson = 0.27
-friction = 0.3
-restitution = 0.3723
-
-[run]
-duration = 3.0e-6
-
-[output]
-frames = 2
-history = 60
-snapshots = [2.0e-6]
-
-[[check]]
-kind = "fill_to_burster"
-expected = 1.15
-tolerance = 0.1
-"#;
+/// A 2 mm charge in a ring of 0.1 mm disks, 3 µs (shared with the library's tests).
+const RING: &str = include_str!("../../sim/tests/data/ring_tiny.toml");
 
 #[test]
 fn bare_charge_conserves_energy_and_detonates_at_d_cj() {
@@ -147,12 +106,7 @@ fn small_ring_runs_coupled() {
 
 #[test]
 fn check_reports_particles_and_fill_to_burster() {
-    let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("s.toml");
-    std::fs::write(&file, RING).unwrap();
-    let o = grains(&["check", file.to_str().unwrap(), "--json"]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
-    let v: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
+    let v = check_json(RING);
     assert!(v["particles"].as_u64().unwrap() > 300);
     assert!(v["fill_to_burster_ratio"].as_f64().unwrap() > 1.0);
     assert_eq!(v["checks"][0]["pass"], true);

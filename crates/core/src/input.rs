@@ -123,6 +123,31 @@ pub fn in_range(key: &str, v: f64, lo: f64, hi: f64) -> Result<(), InputError> {
     }
 }
 
+/// `Ok` when the list `[[key]]` has at least one entry and no two share a name.
+pub fn named_list<'a>(
+    key: &str,
+    names: impl ExactSizeIterator<Item = &'a str>,
+) -> Result<(), InputError> {
+    if names.len() == 0 {
+        return Err(InputError::new(
+            key,
+            "(none)",
+            format!("at least one [[{key}]] is required"),
+        ));
+    }
+    let mut seen = std::collections::HashSet::new();
+    for (k, n) in names.enumerate() {
+        if !seen.insert(n) {
+            return Err(InputError::new(
+                format!("{key}[{k}].name"),
+                format!("\"{n}\""),
+                "names must be unique",
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Parses `text` (read from `origin`) as TOML into `T`; on failure one line naming the
 /// file, the line and column, and what is wrong.
 pub fn parse_toml<T: DeserializeOwned>(text: &str, origin: &str) -> Result<T, String> {

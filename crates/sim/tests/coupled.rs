@@ -7,42 +7,7 @@ use grains_sim::scenario::{self, Scenario};
 use grains_sim::{run, RunOptions, Simulation, Source};
 
 /// A 2 mm PE4 charge in a ring of 0.1 mm disks, 3 µs.
-const RING: &str = r#"
-engine = "fem_dem"
-name = "t_ring"
-
-[charge]
-explosive = "pe4"
-radius = 0.002
-
-[charge.mesh]
-size_edge = 0.15e-3
-size_centre = 0.2e-3
-
-[ring]
-material = "quartz"
-inner_radius = 0.002
-outer_radius = 0.0028
-
-[ring.packing]
-source = "lattice"
-d0 = 0.1e-3
-
-[[material]]
-name = "quartz"
-density = 2560.0
-youngs = 72.0e9
-poisson = 0.27
-friction = 0.3
-restitution = 0.3723
-
-[run]
-duration = 3.0e-6
-
-[output]
-frames = 2
-history = 60
-"#;
+const RING: &str = include_str!("data/ring_tiny.toml");
 
 fn source() -> Source {
     Source {

@@ -109,3 +109,13 @@ pub fn refused_all(base: &str, cases: &[(&str, &str, &[&str])]) {
         refused(&base.replace(from, to), must);
     }
 }
+
+/// `grains check --json` of scenario `text`, which must pass: its figures.
+pub fn check_json(text: &str) -> serde_json::Value {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("s.toml");
+    std::fs::write(&file, text).unwrap();
+    let o = grains(&["check", file.to_str().unwrap(), "--json"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    serde_json::from_str(&o.stdout).unwrap()
+}

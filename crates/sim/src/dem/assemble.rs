@@ -3,7 +3,7 @@
 
 use super::scenario::{CheckSpec, FigureSpec, ParticleSource, RadiusSpec, Scenario};
 use glam::DVec2;
-use grains_core::input::{positive, InputError, Shown};
+use grains_core::input::{named_list, positive, InputError, Shown};
 use grains_core::rng;
 use grains_dem::{timestep, Domain, Particles, Setup, Wall};
 use rand::RngExt;
@@ -75,22 +75,7 @@ pub fn assemble_with(
             ));
         }
     }
-    if s.materials.is_empty() {
-        return Err(InputError::new(
-            "material",
-            "(none)",
-            "at least one [[material]] is required",
-        ));
-    }
-    for (k, m) in s.materials.iter().enumerate() {
-        if s.materials[..k].iter().any(|o| o.name == m.name) {
-            return Err(InputError::new(
-                "material.name",
-                format!("\"{}\"", m.name),
-                "names must be unique",
-            ));
-        }
-    }
+    named_list("material", s.materials.iter().map(|m| m.name.as_str()))?;
     for (k, g) in s.gravity.iter().enumerate() {
         if !g.is_finite() {
             return Err(InputError::new(

@@ -3,7 +3,7 @@
 
 use super::scenario::{CheckSpec, LawName, Scenario};
 use glam::DVec2;
-use grains_core::input::{positive, InputError, Shown};
+use grains_core::input::{named_list, positive, InputError, Shown};
 use grains_mpm::{
     timestep, Body, ContactLaw, ContactTable, Grid, Motion, Particles, Setup, ShapeFunction,
     UpdateScheme,
@@ -122,21 +122,8 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
             ))
         }
     };
-    if s.materials.is_empty() {
-        return Err(InputError::new(
-            "material",
-            "(none)",
-            "at least one [[material]] is required",
-        ));
-    }
+    named_list("material", s.materials.iter().map(|m| m.name()))?;
     for (k, m) in s.materials.iter().enumerate() {
-        if s.materials[..k].iter().any(|o| o.name() == m.name()) {
-            return Err(InputError::new(
-                format!("material[{k}].name"),
-                format!("\"{}\"", m.name()),
-                "names must be unique",
-            ));
-        }
         positive(&format!("material[{k}].density"), m.density())?;
         let (bulk, shear) = m.moduli();
         positive(&format!("material[{k}].bulk"), bulk)?;
