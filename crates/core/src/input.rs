@@ -148,6 +148,30 @@ pub fn named_list<'a>(
     Ok(())
 }
 
+/// The time step a scenario asks for: `dt` if given (refused above the stable limit
+/// `critical`, whose meaning `why` states), else `safety` × the limit.
+pub fn time_step(
+    dt: Option<f64>,
+    safety: f64,
+    critical: f64,
+    why: &str,
+) -> Result<f64, InputError> {
+    match dt {
+        Some(dt) => {
+            positive("run.dt", dt)?;
+            if dt > critical {
+                return Err(InputError::new(
+                    "run.dt",
+                    dt,
+                    format!("above the stable limit {critical:.4e} s ({why})"),
+                ));
+            }
+            Ok(dt)
+        }
+        None => Ok(safety * critical),
+    }
+}
+
 /// Parses `text` (read from `origin`) as TOML into `T`; on failure one line naming the
 /// file, the line and column, and what is wrong.
 pub fn parse_toml<T: DeserializeOwned>(text: &str, origin: &str) -> Result<T, String> {

@@ -4,16 +4,21 @@
 use crate::particles::Particles;
 use crate::setup::{Motion, Setup};
 
-/// Largest stable step h / (c_max + |v|_max), with c the plane-strain dilatational wave
-/// speed √((K + 4G/3)/ρ) of the stiffest free body's material and v the fastest point
-/// or prescribed body.
-pub fn critical_dt(setup: &Setup, p: &Particles) -> f64 {
-    let c = setup
+/// The fastest plane-strain dilatational wave speed among the free bodies' materials.
+pub fn wave_speed(setup: &Setup) -> f64 {
+    setup
         .bodies
         .iter()
         .filter(|b| b.motion == Motion::Free)
         .map(|b| setup.materials[b.material].wave_speed())
-        .fold(0.0, f64::max);
+        .fold(0.0, f64::max)
+}
+
+/// Largest stable step h / (c_max + |v|_max), with c the plane-strain dilatational wave
+/// speed √((K + 4G/3)/ρ) of the stiffest free body's material and v the fastest point
+/// or prescribed body.
+pub fn critical_dt(setup: &Setup, p: &Particles) -> f64 {
+    let c = wave_speed(setup);
     let v_points = p.vel.iter().map(|v| v.length()).fold(0.0, f64::max);
     let v_rigid = setup
         .bodies

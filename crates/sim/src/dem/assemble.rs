@@ -3,7 +3,7 @@
 
 use super::scenario::{CheckSpec, FigureSpec, ParticleSource, RadiusSpec, Scenario};
 use glam::DVec2;
-use grains_core::input::{named_list, positive, InputError, Shown};
+use grains_core::input::{named_list, positive, time_step, InputError, Shown};
 use grains_core::rng;
 use grains_dem::{timestep, Domain, Particles, Setup, Wall};
 use rand::RngExt;
@@ -182,20 +182,12 @@ pub fn assemble_with(
         skin,
     )?;
     let dt_critical = timestep::critical_dt(&setup, &particles);
-    let dt = match s.run.dt {
-        Some(dt) => {
-            positive("run.dt", dt)?;
-            if dt > dt_critical {
-                return Err(InputError::new(
-                    "run.dt",
-                    dt,
-                    format!("above the stable limit {dt_critical:.4e} s (stiffest contact, lightest particle)"),
-                ));
-            }
-            dt
-        }
-        None => s.run.safety * dt_critical,
-    };
+    let dt = time_step(
+        s.run.dt,
+        s.run.safety,
+        dt_critical,
+        "stiffest contact, lightest particle",
+    )?;
 
     check_inside(&setup, &particles)?;
     check_periodic(&setup, &particles)?;

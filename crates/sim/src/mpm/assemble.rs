@@ -3,7 +3,7 @@
 
 use super::scenario::{CheckSpec, LawName, Scenario};
 use glam::DVec2;
-use grains_core::input::{named_list, positive, InputError, Shown};
+use grains_core::input::{named_list, positive, time_step, InputError, Shown};
 use grains_mpm::{
     timestep, Body, ContactLaw, ContactTable, Grid, Motion, Particles, Setup, ShapeFunction,
     UpdateScheme,
@@ -319,22 +319,12 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     };
     setup.validate()?;
     let dt_critical = timestep::critical_dt(&setup, &particles);
-    let dt = match s.run.dt {
-        Some(dt) => {
-            positive("run.dt", dt)?;
-            if dt > dt_critical {
-                return Err(InputError::new(
-                    "run.dt",
-                    dt,
-                    format!(
-                        "above the stable limit {dt_critical:.4e} s = h / (c + |v|max), c the fastest dilatational wave speed"
-                    ),
-                ));
-            }
-            dt
-        }
-        None => s.run.safety * dt_critical,
-    };
+    let dt = time_step(
+        s.run.dt,
+        s.run.safety,
+        dt_critical,
+        "h / (c + |v|max), c the fastest dilatational wave speed",
+    )?;
     let steps = (s.run.duration / dt).ceil() as u64;
     s.output.validate(&super::CAPABILITIES, s.run.duration)?;
     check_references(s, &names)?;

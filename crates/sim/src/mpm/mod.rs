@@ -14,7 +14,7 @@ pub mod watch;
 use crate::driver::{Clock, ParticleView, Simulation};
 use crate::output::Capabilities;
 use grains_mpm::diagnostics::{measure, Diagnostics};
-use grains_mpm::{step, Motion, Setup, Solver, State};
+use grains_mpm::{step, Setup, Solver, State};
 use probes::{BodySample, Sample};
 use std::borrow::Cow;
 
@@ -140,14 +140,8 @@ impl Simulation for Mpm {
         if !d.finite {
             return Some("a position, velocity or stress is not finite (NaN or infinity)".into());
         }
-        let setup = &self.setup;
-        let c = setup
-            .bodies
-            .iter()
-            .filter(|b| b.motion == Motion::Free)
-            .map(|b| setup.materials[b.material].wave_speed())
-            .fold(0.0, f64::max);
-        let cfl = (c + d.max_speed) * self.dt / setup.grid.h;
+        let c = grains_mpm::timestep::wave_speed(&self.setup);
+        let cfl = (c + d.max_speed) * self.dt / self.setup.grid.h;
         (cfl > 1.0).then(|| {
             format!(
                 "CFL breach: (c + |v|max)·Δt/h = {cfl:.3} > 1 with |v|max = {:.4e} m/s; lower run.dt or run.safety",
