@@ -273,6 +273,22 @@ pub struct Counters {
     pub steps_before: u64,
 }
 
+impl Counters {
+    /// The counters of a run that has not started: the first time-based sample and
+    /// frame one interval in.
+    pub fn fresh(plan: &Plan) -> Self {
+        let first = |e: Every| match e {
+            Every::Time(dt) => dt,
+            Every::Steps(_) => 0.0,
+        };
+        Counters {
+            next_sample: first(plan.samples),
+            next_frame: first(plan.frames),
+            ..Default::default()
+        }
+    }
+}
+
 /// Whether a recurring event is due at `c` (and, for time-based events, moves `next`
 /// past it).
 fn due(every: Every, c: Clock, next: &mut f64) -> bool {
@@ -291,8 +307,8 @@ fn due(every: Every, c: Clock, next: &mut f64) -> bool {
     }
 }
 
-/// Runs `sim` to the end of `plan`, feeding `observers`. `counters` are fresh for a new
-/// run and the checkpoint's for a resumed one. Observer and checkpoint I/O errors are
+/// Runs `sim` to the end of `plan`, feeding `observers`. `counters` are
+/// [`Counters::fresh`] for a new run and the checkpoint's for a resumed one. Observer and checkpoint I/O errors are
 /// returned; a breakdown of the state is a [`Status::Unstable`] outcome.
 pub fn run<S: Simulation>(
     sim: &mut S,
@@ -302,13 +318,8 @@ pub fn run<S: Simulation>(
     mut counters: Counters,
 ) -> anyhow::Result<Outcome> {
     let first_step = sim.clock().step;
-    if counters.frames == 0 && counters.last_frame_step.is_none() {
-        if let Every::Time(dt) = plan.samples {
-            counters.next_sample = dt;
-        }
-        if let Every::Time(dt) = plan.frames {
-            counters.next_frame = dt;
-        }
+    if counters.last_frame_step.is_none() {
+        // A run that has not started yet: its first frame is the initial state.
         frame(sim, observers, FrameKind::Regular, &mut counters)?;
     }
     let started = Instant::now();

@@ -133,7 +133,7 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
             &plan,
             &mut opts,
             &src.text,
-            Counters::default(),
+            Counters::fresh(&plan),
         )?
     };
     let ctx = probes::Context {

@@ -96,7 +96,7 @@ pub fn run(
             fresh_out(&out, &src.text)?;
             let history = HistoryRecorder::create(&out, &mut sim)?;
             let frames = FrameRecorder::create(&out, &sim).map_err(anyhow::Error::from)?;
-            (history, frames, Counters::default())
+            (history, frames, Counters::fresh(&plan))
         }
         Some(r) => {
             let c = r.progress.counters.clone();

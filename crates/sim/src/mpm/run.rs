@@ -151,7 +151,7 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
             &plan,
             &mut opts,
             &src.text,
-            Counters::default(),
+            Counters::fresh(&plan),
         )?
     };
     let pitch = sim.setup.grid.h * sim.setup.half_width;
@@ -207,7 +207,7 @@ pub fn reference_loss(path: &Path, body: &str, k: usize) -> anyhow::Result<f64> 
         &mut observers,
         &plan,
         &mut control,
-        Counters::default(),
+        Counters::fresh(&plan),
     )?;
     Ok(watch.record.energy_loss(b, k))
 }
