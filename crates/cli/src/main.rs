@@ -16,8 +16,9 @@ const EXIT_CODES: &str = "Exit codes:
   1    bad input (one line names the key, the value and what is allowed; nothing is
        written) or an output that could not be written
   2    a validation check failed (see summary.json)
-  3    the run went unstable (NaN, runaway overlap, CFL breach); the output written
-       before that point is kept
+  3    the run went unstable (NaN, runaway overlap, a particle through the charge's
+       edge, CFL breach, a collapsed time step); the output written before that
+       point is kept and its checks fail
   130  interrupted by Ctrl-C or SIGTERM (DEM runs write a checkpoint first)";
 
 #[derive(Parser)]
