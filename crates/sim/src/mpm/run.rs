@@ -198,7 +198,14 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
         out.display()
     ));
     let nodes = (a.setup.grid.stored()[0] * a.setup.grid.stored()[1]) as u64;
-    let e = super::check::cost(a.particles.len() as u64, nodes, a.steps, opts.threads);
+    let branches = a.setup.branch_width() as u64;
+    let e = super::check::cost(
+        a.particles.len() as u64,
+        nodes,
+        branches,
+        a.steps,
+        opts.threads,
+    );
     if let Some(w) = e.warning() {
         opts.progress.announce(&format!("warning: {w}"));
     }
