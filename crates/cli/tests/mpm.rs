@@ -189,7 +189,16 @@ fn bench_prints_particle_steps_last() {
     ]);
     assert_eq!(o.code, 1);
     assert!(o.stderr.contains("--shape = cubic"), "{}", o.stderr);
-    let args = ["bench", "mpm", "--particles", "2000", "--grid", "32", "--steps", "5"];
+    let args = [
+        "bench",
+        "mpm",
+        "--particles",
+        "2000",
+        "--grid",
+        "32",
+        "--steps",
+        "5",
+    ];
     let o = grains(&[&args[..], &["--material", "maxwell3"]].concat());
     assert_eq!(o.code, 0, "{}", o.stderr);
     assert!(o.stdout.contains("material: maxwell3"), "{}", o.stdout);

@@ -88,10 +88,12 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
         .map(|(k, b)| {
             serde_json::json!({
                 "name": b.name,
+                "material": setup.materials[b.material].name(),
                 "points": a.counts[k],
                 "area": a.areas[k],
                 "mass": a.areas[k] * setup.materials[b.material].density(),
                 "rigid": b.motion != grains_mpm::Motion::Free,
+                "temperature_change": b.temperature.as_ref().map(|h| h.at(s.run.duration) - h.at(0.0)),
             })
         })
         .collect();
@@ -99,16 +101,48 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
         .iter()
         .map(|b| {
             format!(
-                "{} ({} points, area {:.5e} m², mass {:.5e} kg/m{})",
+                "{} ({}, {} points, area {:.5e} m², mass {:.5e} kg/m{}{})",
                 b["name"].as_str().unwrap_or_default(),
+                b["material"].as_str().unwrap_or_default(),
                 b["points"],
                 b["area"].as_f64().unwrap_or(f64::NAN),
                 b["mass"].as_f64().unwrap_or(f64::NAN),
-                if b["rigid"] == true { ", rigid" } else { "" }
+                if b["rigid"] == true { ", rigid" } else { "" },
+                b["temperature_change"]
+                    .as_f64()
+                    .map(|d| format!(", ΔT = {d} over the run"))
+                    .unwrap_or_default()
             )
         })
         .collect();
     d.lines.push(Line::new("bodies", bodies, text.join("; ")));
+    let count = setup.bodies.len();
+    let bonds: Vec<serde_json::Value> = (0..count)
+        .flat_map(|i| (i + 1..count).map(move |j| (i, j)))
+        .filter_map(|(i, j)| match setup.contact.get(i, j) {
+            grains_mpm::ContactLaw::Bonded { strength, mu } => Some(serde_json::json!({
+                "bodies": [setup.bodies[i].name, setup.bodies[j].name],
+                "strength": strength,
+                "mu": mu,
+            })),
+            _ => None,
+        })
+        .collect();
+    if !bonds.is_empty() {
+        let text: Vec<String> = bonds
+            .iter()
+            .map(|b| {
+                format!(
+                    "{}–{}: {:e} Pa, then μ = {}",
+                    b["bodies"][0].as_str().unwrap_or_default(),
+                    b["bodies"][1].as_str().unwrap_or_default(),
+                    b["strength"].as_f64().unwrap_or(f64::NAN),
+                    b["mu"]
+                )
+            })
+            .collect();
+        d.lines.push(Line::new("bonds", bonds, text.join("; ")));
+    }
     let c = setup
         .materials
         .iter()
