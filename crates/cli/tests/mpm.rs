@@ -153,7 +153,7 @@ fn check_prints_the_stable_step() {
 
 #[test]
 fn bench_prints_particle_steps_last() {
-    let o = grains(&[
+    let small = [
         "bench",
         "mpm",
         "--particles",
@@ -162,9 +162,9 @@ fn bench_prints_particle_steps_last() {
         "32",
         "--steps",
         "5",
-        "--threads",
-        "1",
-    ]);
+    ];
+    let bench = |extra: &[&str]| grains(&[&small[..], extra].concat());
+    let o = bench(&["--threads", "1"]);
     assert_eq!(o.code, 0, "{}", o.stderr);
     let out = o.stdout;
     assert!(
@@ -175,34 +175,13 @@ fn bench_prints_particle_steps_last() {
             .starts_with("particle-steps/s: "),
         "{out}"
     );
-    let o = grains(&[
-        "bench",
-        "mpm",
-        "--particles",
-        "2000",
-        "--grid",
-        "32",
-        "--steps",
-        "5",
-        "--shape",
-        "cubic",
-    ]);
+    let o = bench(&["--shape", "cubic"]);
     assert_eq!(o.code, 1);
     assert!(o.stderr.contains("--shape = cubic"), "{}", o.stderr);
-    let args = [
-        "bench",
-        "mpm",
-        "--particles",
-        "2000",
-        "--grid",
-        "32",
-        "--steps",
-        "5",
-    ];
-    let o = grains(&[&args[..], &["--material", "maxwell3"]].concat());
+    let o = bench(&["--material", "maxwell3"]);
     assert_eq!(o.code, 0, "{}", o.stderr);
     assert!(o.stdout.contains("material: maxwell3"), "{}", o.stdout);
-    let o = grains(&[&args[..], &["--material", "rubber"]].concat());
+    let o = bench(&["--material", "rubber"]);
     assert_eq!(o.code, 1);
     assert!(o.stderr.contains("--material = rubber"), "{}", o.stderr);
 }
