@@ -128,7 +128,7 @@ enum BenchCommand {
         #[arg(long)]
         threads: Option<usize>,
     },
-    /// The MPM engine: an elastic block (or two in contact) falling in a walled box.
+    /// The MPM engine: a block (or two in contact) falling in a walled box.
     Mpm {
         /// Material points.
         #[arg(long, default_value_t = 32_768)]
@@ -153,6 +153,10 @@ enum BenchCommand {
         /// peer).
         #[arg(long, default_value = "usl")]
         update: String,
+        /// The block's material: elastic, thermal, neo_hookean, j2, maxwell (2 Prony
+        /// terms), maxwell3 or maxwell4; all with K = 200, instantaneous G = 100.
+        #[arg(long, default_value = "elastic")]
+        material: String,
     },
 }
 
@@ -394,6 +398,7 @@ fn cmd_bench(what: BenchCommand) -> Result<ExitCode, Failure> {
             bodies,
             shape,
             update,
+            material,
         } => {
             set_threads(threads)?;
             bench::mpm::run(&bench::mpm::Options {
@@ -403,6 +408,7 @@ fn cmd_bench(what: BenchCommand) -> Result<ExitCode, Failure> {
                 bodies,
                 shape,
                 update,
+                material,
             })
         }
     }

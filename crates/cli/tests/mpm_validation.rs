@@ -1,86 +1,82 @@
 //! The bardenhagen-1998 MPM cases through the `grains` binary, as the user runs them.
 //! `#[ignore]`d (run with `cargo test --release -p grains --test mpm_validation --
-//! --ignored`): together they take about a minute in a release build.
+//! --ignored`): together they take about a minute and a half in a release build. Each
+//! example must exit 0 with every check passing; the figures the checks do not bound are
+//! held to what VALIDATION.md reports.
 
 mod common;
 use common::*;
 
-/// Runs an example; returns its checks as (name, measured, pass).
-fn run(example: &str) -> Vec<(String, f64, bool)> {
-    let (o, s) = run_example(&format!("bardenhagen1998/{example}"));
-    assert!(
-        o.code == 0 || o.code == 2,
-        "{example}: exit {}: {}",
-        o.code,
-        o.stderr
-    );
-    s["checks"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|c| {
-            (
-                c["name"].as_str().unwrap().to_string(),
-                c["measured"].as_f64().unwrap_or(f64::NAN),
-                c["pass"].as_bool().unwrap(),
-            )
-        })
-        .collect()
+/// Runs an example (under `examples/`): every check passes and it exits 0; its summary.
+fn passes(example: &str) -> serde_json::Value {
+    let (o, s) = run_example(example);
+    assert_eq!(o.code, 0, "{example}: exit {}: {}", o.code, o.stderr);
+    let checks = s["checks"].as_array().unwrap();
+    assert!(!checks.is_empty(), "{example}: no checks");
+    for c in checks {
+        assert!(c["pass"] == true, "{example}: {c}");
+    }
+    s
 }
 
-/// Every check passes except the named ones, whose measured values must lie in a range.
-fn expect(example: &str, known: &[(&str, f64, f64)]) {
-    for (name, measured, pass) in run(example) {
-        match known.iter().find(|k| k.0 == name) {
-            Some(&(_, lo, hi)) => assert!(
-                (lo..=hi).contains(&measured),
-                "{example}: {name} = {measured}"
-            ),
-            None => assert!(pass, "{example}: {name} failed with {measured}"),
-        }
-    }
+/// The normal restitution of impact `k` (from 1) of the cylinder.
+fn restitution(s: &serde_json::Value, k: usize) -> f64 {
+    s["figures"]["cylinder_impacts"][k - 1]["normal_restitution"]
+        .as_f64()
+        .unwrap()
 }
 
 #[test]
 #[ignore]
 fn cylinder_bounce_frictionless() {
-    // The momentum bound assumes rigid rebounds; see VALIDATION.md.
-    expect(
-        "cylinder_bounce_frictionless.toml",
-        &[("momentum_magnitude_between_impacts", 0.0, 0.03)],
-    );
+    let s = passes("bardenhagen1998/cylinder_bounce_frictionless.toml");
+    // The elastic cylinder keeps part of each impact as vibration (VALIDATION.md).
+    let e = restitution(&s, 1);
+    assert!((0.97..0.99).contains(&e), "{e}");
 }
 
 #[test]
 #[ignore]
 fn cylinder_bounce_friction() {
-    expect("cylinder_bounce_friction.toml", &[]);
+    passes("bardenhagen1998/cylinder_bounce_friction.toml");
 }
 
 #[test]
 #[ignore]
 fn cylinder_bounce_frictionless_fine() {
-    expect("cylinder_bounce_frictionless_fine.toml", &[]);
+    passes("bardenhagen1998/cylinder_bounce_frictionless_fine.toml");
 }
 
 #[test]
 #[ignore]
-fn cylinder_bounce_converged() {
-    // The resolved elastic cylinder keeps ≈ 5 % of |p| as vibration after three impacts.
-    expect(
-        "cylinder_bounce_converged.toml",
-        &[("momentum_magnitude_between_impacts", 0.04, 0.065)],
-    );
+fn cylinder_bounce_48() {
+    let s = passes("bardenhagen1998/cylinder_bounce_48.toml");
+    let e = restitution(&s, 1);
+    assert!((0.970..0.977).contains(&e), "{e}");
 }
 
 #[test]
 #[ignore]
 fn block_on_incline() {
-    expect("block_on_incline.toml", &[]);
+    passes("bardenhagen1998/block_on_incline.toml");
 }
 
 #[test]
 #[ignore]
 fn cylinder_on_incline() {
-    expect("cylinder_on_incline.toml", &[]);
+    passes("bardenhagen1998/cylinder_on_incline.toml");
+}
+
+#[test]
+#[ignore]
+fn concentric_cylinders_bonded() {
+    passes("bardenhagen1998/concentric_cylinders_bonded.toml");
+}
+
+#[test]
+#[ignore]
+fn concentric_cylinders_debond() {
+    let s = passes("bardenhagen1998/concentric_cylinders_debond.toml");
+    // The lattice's eightfold registry (the paper saw 4, once 2).
+    assert_eq!(s["figures"]["initiation_sites"], 8);
 }

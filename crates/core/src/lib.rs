@@ -16,6 +16,8 @@
 //!   reproducible;
 //! - [`lammps_data`]: reader for LAMMPS `atom_style sphere` data files, so
 //!   beds built with LAMMPS can start a grains run;
+//! - [`table`]: tables of values against time (temperature, velocity histories),
+//!   validated and read linearly;
 //! - [`atomic`]: the write-then-rename primitive the writers above share, so
 //!   an interrupted run never leaves a half-written file behind.
 #![warn(missing_docs)]
@@ -30,6 +32,7 @@ pub mod lammps_data;
 pub mod plot;
 pub mod pvd;
 pub mod rng;
+pub mod table;
 pub mod vtk;
 mod xml;
 

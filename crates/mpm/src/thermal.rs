@@ -30,17 +30,7 @@ impl TemperatureHistory {
     pub fn at(&self, t: f64) -> f64 {
         match self {
             TemperatureHistory::Rate { initial, rate } => initial + rate * t,
-            TemperatureHistory::Table { points } => {
-                let k = points.partition_point(|p| p[0] <= t);
-                if k == 0 {
-                    return points[0][1];
-                }
-                if k == points.len() {
-                    return points[k - 1][1];
-                }
-                let ([t0, v0], [t1, v1]) = (points[k - 1], points[k]);
-                v0 + (v1 - v0) * (t - t0) / (t1 - t0)
-            }
+            TemperatureHistory::Table { points } => grains_core::table::at(points, t)[1],
         }
     }
 
@@ -59,35 +49,11 @@ impl TemperatureHistory {
                     }
                 }
             }
-            TemperatureHistory::Table { points } => {
-                if points.is_empty() {
-                    return Err(InputError::new(
-                        format!("{key}.points"),
-                        "[]",
-                        "need at least one [time, temperature] pair",
-                    ));
-                }
-                for (k, p) in points.iter().enumerate() {
-                    if !(p[0].is_finite() && p[1].is_finite()) {
-                        return Err(InputError::new(
-                            format!("{key}.points[{k}]"),
-                            format!("{p:?}"),
-                            "time and temperature must be finite",
-                        ));
-                    }
-                    if k > 0 && p[0] <= points[k - 1][0] {
-                        return Err(InputError::new(
-                            format!("{key}.points[{k}]"),
-                            format!("{p:?}"),
-                            format!(
-                                "times must increase strictly: {} follows {}",
-                                p[0],
-                                points[k - 1][0]
-                            ),
-                        ));
-                    }
-                }
-            }
+            TemperatureHistory::Table { points } => grains_core::table::validate(
+                &format!("{key}.points"),
+                points,
+                "[time, temperature] pair",
+            )?,
         }
         Ok(())
     }

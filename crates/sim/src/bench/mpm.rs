@@ -1,14 +1,23 @@
-//! `grains bench mpm`: one elastic block (or two stacked blocks in frictional contact)
-//! of N points falling in a walled unit box on a G × G grid — the set-up of the taichi
-//! mpm88 peer script (block [0.2, 0.6]², initial velocity (0, −1), g = 9.8,
-//! Δt = 2·10⁻⁴ · 128/G), with an elastic solid instead of a fluid. Contact is as in a
-//! scenario's default: Coulomb (μ = 0.3) with the separation test.
+//! `grains bench mpm`: one block (or two stacked blocks in frictional contact) of N
+//! points falling in a walled unit box on a G × G grid — the set-up of the taichi mpm88
+//! peer script (block [0.2, 0.6]², initial velocity (0, −1), g = 9.8,
+//! Δt = 2·10⁻⁴ · 128/G), with a solid instead of a fluid. Contact is as in a scenario's
+//! default: Coulomb (μ = 0.3) with the separation test. The solid is elastic by default;
+//! `--material` times the models with memory against it, all with K = 200 and an
+//! instantaneous G = 100, so the time step is the same:
+//!
+//! * `thermal`: elastic, α = 10⁻⁴, heated at 100 per second;
+//! * `neo_hookean`;
+//! * `j2`: σ_y = 5, H = 10 (the block yields once it lands, after ~1000 steps at G = 128);
+//! * `maxwell`: G∞ = 50 and two Prony terms, 30 and 20 with τ = 0.01 and 0.1 s;
+//! * `maxwell3`: G∞ = 40, three terms of 20 (τ = 0.001, 0.01, 0.1 s);
+//! * `maxwell4`: G∞ = 40, four terms of 15 (τ = 0.001 to 1 s).
 
 use super::{cpu_seconds, Report};
 use glam::DVec2;
 use grains_mpm::{
-    step, Body, ContactLaw, ContactTable, Grid, Material, Motion, Particles, Setup, ShapeFunction,
-    Solver, State, UpdateScheme,
+    step, Body, ContactLaw, ContactTable, Grid, Material, Motion, Particles, PronyTerm, Setup,
+    ShapeFunction, Solver, State, TemperatureHistory, UpdateScheme,
 };
 use std::time::Instant;
 
@@ -26,6 +35,78 @@ pub struct Options {
     pub shape: String,
     /// Update scheme name.
     pub update: String,
+    /// The block's material (see the module's list).
+    pub material: String,
+}
+
+/// The materials `--material` names, with the temperature history of `thermal`.
+pub const MATERIALS: &str = "elastic, thermal, neo_hookean, j2, maxwell, maxwell3 or maxwell4";
+
+/// The block's material and temperature history.
+fn material(name: &str) -> Result<(Material, Option<TemperatureHistory>), String> {
+    let (density, bulk, shear) = (1.0, 200.0, 100.0);
+    let elastic = |expansion| Material::LinearElastic {
+        name: name.into(),
+        density,
+        bulk,
+        shear,
+        expansion,
+    };
+    let maxwell = |relaxed: f64, terms: &[(f64, f64)]| Material::Maxwell {
+        name: name.into(),
+        density,
+        bulk,
+        shear: relaxed,
+        prony: terms
+            .iter()
+            .map(|&(shear, time)| PronyTerm { shear, time })
+            .collect(),
+        expansion: 0.0,
+    };
+    Ok(match name {
+        "elastic" => (elastic(0.0), None),
+        "thermal" => (
+            elastic(1e-4),
+            Some(TemperatureHistory::Rate {
+                initial: 0.0,
+                rate: 100.0,
+            }),
+        ),
+        "neo_hookean" => (
+            Material::NeoHookean {
+                name: name.into(),
+                density,
+                bulk,
+                shear,
+            },
+            None,
+        ),
+        "j2" => (
+            Material::J2Plastic {
+                name: name.into(),
+                density,
+                bulk,
+                shear,
+                yield_stress: 5.0,
+                hardening: 10.0,
+                expansion: 0.0,
+            },
+            None,
+        ),
+        "maxwell" => (maxwell(50.0, &[(30.0, 0.01), (20.0, 0.1)]), None),
+        "maxwell3" => (
+            maxwell(40.0, &[(20.0, 0.001), (20.0, 0.01), (20.0, 0.1)]),
+            None,
+        ),
+        "maxwell4" => (
+            maxwell(
+                40.0,
+                &[(15.0, 0.001), (15.0, 0.01), (15.0, 0.1), (15.0, 1.0)],
+            ),
+            None,
+        ),
+        m => return Err(format!("--material = {m}: must be {MATERIALS}")),
+    })
 }
 
 /// The benchmark set-up, its points and its step.
@@ -76,19 +157,13 @@ pub fn setup(o: &Options) -> Result<(Setup, Particles, f64), String> {
         let body = if o.bodies == 2 && 2 * j >= ny { 1 } else { 0 };
         p.push(body, vol, vol, x, DVec2::new(0.0, -1.0));
     }
-    let material = Material::LinearElastic {
-        name: "solid".into(),
-        density: 1.0,
-        bulk: 200.0,
-        shear: 100.0,
-        expansion: 0.0,
-    };
+    let (material, temperature) = material(&o.material)?;
     let bodies = (0..o.bodies)
         .map(|b| Body {
             name: format!("block{b}"),
             material: 0,
             motion: Motion::Free,
-            temperature: None,
+            temperature: temperature.clone(),
         })
         .collect();
     let s = Setup {
@@ -142,6 +217,7 @@ pub fn run(o: &Options) -> Result<Report, String> {
     r.line("grid", format!("{0}x{0}", o.grid));
     r.line("bodies", o.bodies);
     r.line("shape", format!("{}, update: {}", o.shape, o.update));
+    r.line("material", o.material.as_str());
     r.line(
         "steps",
         format!("{} (after 50 warm-up steps), dt = {dt:.3e} s", o.steps),
@@ -152,6 +228,15 @@ pub fn run(o: &Options) -> Result<Report, String> {
         r.line("cpu time", format!("{cpu:.3} s"));
         r.line("particle-steps per cpu-s", format!("{:.4e}", work / cpu));
     }
+    let d = grains_mpm::diagnostics::measure(&setup, &state.particles, &solver.layout().bodies);
+    r.line(
+        "dissipated",
+        format!(
+            "{:.4e} J/m (largest plastic strain {:.4e})",
+            d.dissipated,
+            d.bodies.iter().map(|b| b.plastic_max).fold(0.0, f64::max)
+        ),
+    );
     r.line(
         "state-hash",
         format!(

@@ -1,12 +1,13 @@
 //! Turns a parsed MPM scenario into the engine's inputs, validating every value on the
 //! way. Nothing here writes to disk: a scenario that fails leaves no output behind.
 
-use super::scenario::{CheckSpec, LawName, Scenario};
-use glam::DVec2;
+use super::drive::VelocityTable;
+use super::scenario::{LawName, Scenario};
+use glam::{DMat2, DVec2};
 use grains_core::input::{named_list, positive, time_step, InputError, Shown};
 use grains_mpm::{
-    timestep, Body, ContactLaw, ContactTable, Grid, Motion, Particles, Setup, ShapeFunction,
-    UpdateScheme,
+    timestep, Body, ContactLaw, ContactTable, Geometry, Grid, Motion, Particles, Setup,
+    ShapeFunction, UpdateScheme,
 };
 
 /// A scenario ready to run.
@@ -21,6 +22,10 @@ pub struct Assembled {
     pub velocities: Vec<DVec2>,
     /// Points per body.
     pub counts: Vec<usize>,
+    /// The shape each body was filled from (`minus` applied).
+    pub geometry: Vec<Geometry>,
+    /// Rigid bodies whose velocity follows a table.
+    pub drives: Vec<(usize, VelocityTable)>,
     /// Time step (s).
     pub dt: f64,
     /// Largest stable time step (s).
@@ -29,25 +34,59 @@ pub struct Assembled {
     pub steps: u64,
 }
 
-fn law(key: &str, name: LawName, mu: Option<f64>) -> Result<ContactLaw, InputError> {
-    match (name, mu) {
-        (LawName::Coulomb, mu) => {
-            let mu = mu.unwrap_or(0.0);
-            if !(mu.is_finite() && mu >= 0.0) {
-                return Err(InputError::new(
-                    format!("{key}.mu"),
-                    mu,
-                    "must be a finite number >= 0",
-                ));
-            }
-            Ok(ContactLaw::Coulomb { mu })
+fn law(
+    key: &str,
+    name: LawName,
+    mu: Option<f64>,
+    strength: Option<f64>,
+) -> Result<ContactLaw, InputError> {
+    let friction = |mu: Option<f64>| {
+        let mu = mu.unwrap_or(0.0);
+        if mu.is_finite() && mu >= 0.0 {
+            Ok(mu)
+        } else {
+            Err(InputError::new(
+                format!("{key}.mu"),
+                mu,
+                "must be a finite number >= 0",
+            ))
         }
+    };
+    if let (Some(s), false) = (strength, name == LawName::Bonded) {
+        return Err(InputError::new(
+            format!("{key}.strength"),
+            s,
+            "only a \"bonded\" law takes a strength",
+        ));
+    }
+    match (name, mu) {
+        (LawName::Coulomb, mu) => Ok(ContactLaw::Coulomb { mu: friction(mu)? }),
         (LawName::NoSlip, None) => Ok(ContactLaw::NoSlip),
         (LawName::NoSlip, Some(mu)) => Err(InputError::new(
             format!("{key}.mu"),
             mu,
-            "only a \"coulomb\" law takes a friction coefficient",
+            "only a \"coulomb\" or \"bonded\" law takes a friction coefficient",
         )),
+        (LawName::Bonded, mu) => {
+            let strength = strength.ok_or_else(|| {
+                InputError::new(
+                    format!("{key}.strength"),
+                    "(missing)",
+                    "a \"bonded\" law needs a bond strength (Pa, >= 0)",
+                )
+            })?;
+            if !(strength.is_finite() && strength >= 0.0) {
+                return Err(InputError::new(
+                    format!("{key}.strength"),
+                    strength,
+                    "must be a finite number >= 0",
+                ));
+            }
+            Ok(ContactLaw::Bonded {
+                strength,
+                mu: friction(mu)?,
+            })
+        }
     }
 }
 
@@ -124,10 +163,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     };
     named_list("material", s.materials.iter().map(|m| m.name()))?;
     for (k, m) in s.materials.iter().enumerate() {
-        positive(&format!("material[{k}].density"), m.density())?;
-        let (bulk, shear) = m.moduli();
-        positive(&format!("material[{k}].bulk"), bulk)?;
-        positive(&format!("material[{k}].shear"), shear)?;
+        m.validate(&format!("material[{k}]"))?;
     }
     if s.bodies.is_empty() {
         return Err(InputError::new(
@@ -150,6 +186,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     let mut particles = Particles::default();
     let mut sites = std::collections::HashMap::new();
     let (mut bodies, mut areas, mut velocities, mut counts) = (vec![], vec![], vec![], vec![]);
+    let (mut shapes, mut drives) = (vec![], vec![]);
     for (k, b) in s.bodies.iter().enumerate() {
         let key = format!("body[{k}]");
         if names[..k].contains(&b.name.as_str()) || b.name.is_empty() {
@@ -171,18 +208,19 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
                     format!("must be one of {m:?}"),
                 )
             })?;
-        b.geometry.validate().map_err(|e| {
-            InputError::new(format!("{key}.geometry"), e, "check the shape's parameters")
-        })?;
-        let v = DVec2::from(b.velocity);
-        if !v.is_finite() {
-            return Err(InputError::new(
-                format!("{key}.velocity"),
-                format!("{:?}", b.velocity),
-                "must be finite",
-            ));
+        let geometry = body_shape(s, k, &names)?;
+        let (v, gradient, table) = motion(b, &key)?;
+        if let Some(h) = &b.temperature {
+            h.validate(&format!("{key}.temperature"))?;
+            if b.rigid {
+                return Err(InputError::new(
+                    format!("{key}.temperature"),
+                    format!("{h:?}"),
+                    "only a free body has a temperature history (a rigid body has no strain)",
+                ));
+            }
         }
-        let points = b.geometry.fill(grid.lo, pitch);
+        let points = geometry.fill(grid.lo, pitch);
         if points.is_empty() {
             return Err(InputError::new(
                 format!("{key}.geometry"),
@@ -208,7 +246,10 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
             if let Some(&other) = sites.get(&site) {
                 let other: usize = other;
                 let o = &s.bodies[other];
-                let fused = b.rigid && o.rigid && o.velocity == b.velocity;
+                let fused = b.rigid
+                    && o.rigid
+                    && o.velocity == b.velocity
+                    && o.velocity_table == b.velocity_table;
                 if other != k && !fused {
                     return Err(InputError::new(
                         format!("{key}.geometry"),
@@ -226,11 +267,11 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         }
         // Volumes are rescaled so the body has its exact area (a lattice count of a
         // curved shape is off by a few per cent at 8 cells per diameter).
-        let area = b.geometry.area();
+        let area = geometry.area();
         let vol = area / points.len() as f64;
         let rho = s.materials[material].density();
         for x in &points {
-            particles.push(k as u16, rho * vol, vol, *x, v);
+            particles.push(k as u16, rho * vol, vol, *x, v + gradient.mul_vec2(*x));
         }
         bodies.push(Body {
             name: b.name.clone(),
@@ -240,8 +281,12 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
             } else {
                 Motion::Free
             },
-            temperature: None,
+            temperature: b.temperature.clone(),
         });
+        if let Some(t) = table {
+            drives.push((k, t));
+        }
+        shapes.push(geometry);
         areas.push(area);
         velocities.push(v);
         counts.push(points.len());
@@ -253,8 +298,8 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
             "at most 65535 bodies",
         ));
     }
-    let mut contact =
-        ContactTable::new(s.bodies.len(), law("contact", s.contact.law, s.contact.mu)?);
+    let c = &s.contact;
+    let mut contact = ContactTable::new(s.bodies.len(), law("contact", c.law, c.mu, c.strength)?);
     for (k, p) in s.contact.pair.iter().enumerate() {
         let key = format!("contact.pair[{k}]");
         let a = body_index(&format!("{key}.bodies"), &p.bodies[0])?;
@@ -266,7 +311,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
                 "must name two different bodies",
             ));
         }
-        contact.set(a, b, law(&key, p.law, p.mu)?);
+        contact.set(a, b, law(&key, p.law, p.mu, p.strength)?);
     }
     if contact.distinct() > 255 {
         return Err(InputError::new(
@@ -327,102 +372,120 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     )?;
     let steps = (s.run.duration / dt).ceil() as u64;
     s.output.validate(&super::CAPABILITIES, s.run.duration)?;
-    check_references(s, &names)?;
+    super::check_input::validate(s, &setup, &shapes, &names)?;
     Ok(Assembled {
         setup,
         particles,
         areas,
         velocities,
         counts,
+        geometry: shapes,
+        drives,
         dt,
         dt_critical,
         steps,
     })
 }
 
-fn check_references(s: &Scenario, names: &[&str]) -> Result<(), InputError> {
-    for (k, c) in s.checks.iter().enumerate() {
-        let key = format!("check[{k}]");
-        if let Some(b) = c.body() {
-            if !names.contains(&b) {
-                return Err(InputError::new(
-                    format!("{key}.body"),
-                    format!("\"{b}\""),
-                    format!("must be one of {names:?}"),
-                ));
-            }
+/// Body `k`'s shape: its geometry minus the shapes of the bodies its `minus` names.
+fn body_shape(s: &Scenario, k: usize, names: &[&str]) -> Result<Geometry, InputError> {
+    let b = &s.bodies[k];
+    let key = format!("body[{k}]");
+    b.geometry.validate().map_err(|e| {
+        InputError::new(format!("{key}.geometry"), e, "check the shape's parameters")
+    })?;
+    if b.minus.is_empty() {
+        return Ok(b.geometry.clone());
+    }
+    let mut holes = Vec::new();
+    for (j, name) in b.minus.iter().enumerate() {
+        let key = format!("{key}.minus[{j}]");
+        if name == "*" {
+            holes.extend(
+                (0..s.bodies.len())
+                    .filter(|&o| o != k)
+                    .map(|o| s.bodies[o].geometry.clone()),
+            );
+            continue;
         }
-        let tol = match c {
-            CheckSpec::InitialEnergy { tolerance, .. }
-            | CheckSpec::InitialMomentum { tolerance, .. }
-            | CheckSpec::ImpactTangentialVelocity { tolerance, .. }
-            | CheckSpec::ImpactSpin { tolerance, .. }
-            | CheckSpec::Acceleration { tolerance, .. } => Some(("tolerance", *tolerance)),
-            CheckSpec::EnergyLoss { max, .. } | CheckSpec::MomentumBetweenImpacts { max, .. } => {
-                Some(("max", *max))
-            }
-            CheckSpec::Rotation { max_deg, .. } => Some(("max_deg", *max_deg)),
-            CheckSpec::EnergyLossBelowReference { .. } => None,
-        };
-        if let Some((field, v)) = tol {
-            positive(&format!("{key}.{field}"), v)?;
-        }
-        match c {
-            CheckSpec::InitialMomentum { component, .. }
-                if component != "x" && component != "y" =>
-            {
+        match names.iter().position(|n| n == name) {
+            Some(o) if o != k => holes.push(s.bodies[o].geometry.clone()),
+            Some(_) => {
                 return Err(InputError::new(
-                    format!("{key}.component"),
-                    format!("\"{component}\""),
-                    "must be \"x\" or \"y\"",
-                ));
+                    key,
+                    format!("\"{name}\""),
+                    "a body cannot be cut out of itself",
+                ))
             }
-            CheckSpec::EnergyLoss {
-                after_impact: 0, ..
-            }
-            | CheckSpec::EnergyLossBelowReference {
-                after_impact: 0, ..
-            } => {
+            None => {
                 return Err(InputError::new(
-                    format!("{key}.after_impact"),
-                    0,
-                    "impacts count from 1",
-                ));
+                    key,
+                    format!("\"{name}\""),
+                    format!("must be \"*\" or one of {names:?}"),
+                ))
             }
-            CheckSpec::ImpactTangentialVelocity { impact: 0, .. }
-            | CheckSpec::ImpactSpin { impact: 0, .. } => {
-                return Err(InputError::new(
-                    format!("{key}.impact"),
-                    0,
-                    "impacts count from 1",
-                ));
-            }
-            CheckSpec::Acceleration { on, normal, .. } => {
-                if !names.contains(&on.as_str()) {
-                    return Err(InputError::new(
-                        format!("{key}.on"),
-                        format!("\"{on}\""),
-                        format!("must be one of {names:?}"),
-                    ));
-                }
-                let n = DVec2::from(*normal);
-                if !(n.is_finite() && n.length() > 0.0) {
-                    return Err(InputError::new(
-                        format!("{key}.normal"),
-                        format!("{normal:?}"),
-                        "must be a finite non-zero vector",
-                    ));
-                }
-                if s.gravity == [0.0, 0.0] {
-                    return Err(InputError::new(
-                        "gravity",
-                        "[0, 0]",
-                        format!("{key} needs gravity"),
-                    ));
-                }
-            }
-            _ => {}
         }
     }
-    Ok(())
+    let g = b.geometry.clone().minus(holes);
+    g.validate()
+        .map_err(|e| InputError::new(format!("{key}.minus"), e, "leave some of the region"))?;
+    Ok(g)
+}
+
+/// Body `b`'s initial velocity, velocity gradient and (rigid bodies) velocity table.
+fn motion(
+    b: &super::scenario::BodySpec,
+    key: &str,
+) -> Result<(DVec2, DMat2, Option<VelocityTable>), InputError> {
+    let mut v = DVec2::from(b.velocity);
+    if !v.is_finite() {
+        return Err(InputError::new(
+            format!("{key}.velocity"),
+            format!("{:?}", b.velocity),
+            "must be finite",
+        ));
+    }
+    let gradient = match b.velocity_gradient {
+        None => DMat2::ZERO,
+        Some(l) if b.rigid => {
+            return Err(InputError::new(
+                format!("{key}.velocity_gradient"),
+                format!("{l:?}"),
+                "only a free body takes a velocity gradient",
+            ))
+        }
+        Some(l) if !l.iter().flatten().all(|x| x.is_finite()) => {
+            return Err(InputError::new(
+                format!("{key}.velocity_gradient"),
+                format!("{l:?}"),
+                "must be finite",
+            ))
+        }
+        // Rows in the file, columns in glam: L·x = (L00 x + L01 y, L10 x + L11 y).
+        Some(l) => DMat2::from_cols_array(&[l[0][0], l[1][0], l[0][1], l[1][1]]),
+    };
+    let table = match &b.velocity_table {
+        None => None,
+        Some(rows) => {
+            let k = format!("{key}.velocity_table");
+            if !b.rigid {
+                return Err(InputError::new(
+                    k,
+                    format!("{rows:?}"),
+                    "only a rigid body (rigid = true) follows a velocity table",
+                ));
+            }
+            if b.velocity != [0.0, 0.0] {
+                return Err(InputError::new(
+                    format!("{key}.velocity"),
+                    format!("{:?}", b.velocity),
+                    "give a velocity or a velocity_table, not both",
+                ));
+            }
+            let t = VelocityTable::new(&k, rows)?;
+            v = t.at(0.0);
+            Some(t)
+        }
+    };
+    Ok((v, gradient, table))
 }

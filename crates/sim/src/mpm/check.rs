@@ -8,10 +8,16 @@ use crate::check::{Derived, Line};
 use crate::estimate::{rate, Estimate};
 use crate::source::Source;
 
-/// Points: ~170 B of state; grid: one 64 B record + 32 B kinematics per node and body
-/// patch, plus the 80 B global sums with several bodies.
-fn memory(points: u64, nodes: u64) -> u64 {
-    points * 170 + nodes * (96 + 80) + (1 << 20)
+/// Points: ~200 B of state (kinematics, stress, plastic strain, bond, energy accounts)
+/// plus 24 B per Maxwell branch; grid: one 64 B record + 32 B kinematics per node and
+/// body patch, plus the 80 B global sums with several bodies.
+fn memory(points: u64, nodes: u64, branches: u64) -> u64 {
+    points * (200 + 24 * branches) + nodes * (96 + 80) + (1 << 20)
+}
+
+/// Maxwell branches each point stores: the most any material has.
+fn branches(s: &Scenario) -> u64 {
+    s.materials.iter().map(|m| m.branches()).max().unwrap_or(0) as u64
 }
 
 /// Points and grid nodes the scenario asks for, from its shapes' areas.
@@ -39,13 +45,20 @@ fn size(s: &Scenario) -> (u64, u64) {
 /// The memory a run needs, checked against what is available, before anything is built.
 pub fn fits(s: &Scenario, src: &Source, threads: usize) -> Result<(), String> {
     let (points, nodes) = size(s);
-    Estimate::new(points, 0, memory(points, nodes), rate::MPM, threads)
-        .fits_memory(&format!("{}: bodies and grid", src.origin))
+    Estimate::new(
+        points,
+        0,
+        memory(points, nodes, branches(s)),
+        rate::MPM,
+        threads,
+    )
+    .fits_memory(&format!("{}: bodies and grid", src.origin))
 }
 
-/// What a run of `n` points on `nodes` grid nodes over `steps` steps costs.
-pub fn cost(n: u64, nodes: u64, steps: u64, threads: usize) -> Estimate {
-    Estimate::new(n, steps, memory(n, nodes), rate::MPM, threads)
+/// What a run of `n` points with `branches` Maxwell branches each on `nodes` grid nodes
+/// over `steps` steps costs.
+pub fn cost(n: u64, nodes: u64, branches: u64, steps: u64, threads: usize) -> Estimate {
+    Estimate::new(n, steps, memory(n, nodes, branches), rate::MPM, threads)
 }
 
 /// What `grains check` prints for an MPM scenario.
@@ -75,10 +88,12 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
         .map(|(k, b)| {
             serde_json::json!({
                 "name": b.name,
+                "material": setup.materials[b.material].name(),
                 "points": a.counts[k],
                 "area": a.areas[k],
                 "mass": a.areas[k] * setup.materials[b.material].density(),
                 "rigid": b.motion != grains_mpm::Motion::Free,
+                "temperature_change": b.temperature.as_ref().map(|h| h.at(s.run.duration) - h.at(0.0)),
             })
         })
         .collect();
@@ -86,16 +101,48 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
         .iter()
         .map(|b| {
             format!(
-                "{} ({} points, area {:.5e} m², mass {:.5e} kg/m{})",
+                "{} ({}, {} points, area {:.5e} m², mass {:.5e} kg/m{}{})",
                 b["name"].as_str().unwrap_or_default(),
+                b["material"].as_str().unwrap_or_default(),
                 b["points"],
                 b["area"].as_f64().unwrap_or(f64::NAN),
                 b["mass"].as_f64().unwrap_or(f64::NAN),
-                if b["rigid"] == true { ", rigid" } else { "" }
+                if b["rigid"] == true { ", rigid" } else { "" },
+                b["temperature_change"]
+                    .as_f64()
+                    .map(|d| format!(", ΔT = {d} over the run"))
+                    .unwrap_or_default()
             )
         })
         .collect();
     d.lines.push(Line::new("bodies", bodies, text.join("; ")));
+    let count = setup.bodies.len();
+    let bonds: Vec<serde_json::Value> = (0..count)
+        .flat_map(|i| (i + 1..count).map(move |j| (i, j)))
+        .filter_map(|(i, j)| match setup.contact.get(i, j) {
+            grains_mpm::ContactLaw::Bonded { strength, mu } => Some(serde_json::json!({
+                "bodies": [setup.bodies[i].name, setup.bodies[j].name],
+                "strength": strength,
+                "mu": mu,
+            })),
+            _ => None,
+        })
+        .collect();
+    if !bonds.is_empty() {
+        let text: Vec<String> = bonds
+            .iter()
+            .map(|b| {
+                format!(
+                    "{}–{}: {:e} Pa, then μ = {}",
+                    b["bodies"][0].as_str().unwrap_or_default(),
+                    b["bodies"][1].as_str().unwrap_or_default(),
+                    b["strength"].as_f64().unwrap_or(f64::NAN),
+                    b["mu"]
+                )
+            })
+            .collect();
+        d.lines.push(Line::new("bonds", bonds, text.join("; ")));
+    }
     let c = setup
         .materials
         .iter()
@@ -113,6 +160,6 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
         a.steps,
     ));
     let nodes = (setup.grid.stored()[0] * setup.grid.stored()[1]) as u64;
-    d.cost(&cost(n, nodes, a.steps, threads));
+    d.cost(&cost(n, nodes, branches(s), a.steps, threads));
     Ok(d)
 }

@@ -5,14 +5,14 @@ use super::Mpm;
 use crate::frames::Framed;
 use grains_core::vtk::{cell_type, ArrayData, DataArray, PolyData, UnstructuredGrid};
 use grains_mpm::grid::GHOST;
-use grains_mpm::{Setup, Solver, State};
+use grains_mpm::{Material, Setup, Solver, State};
 use std::io;
 use std::path::Path;
 
 impl Framed for Mpm {
     fn write_frame(&self, dir: &Path, k: usize) -> io::Result<Vec<(&'static str, String)>> {
         let name = format!("points_{k:05}.vtp");
-        points_polydata(&self.state).write(&dir.join(&name))?;
+        points_polydata(&self.setup, &self.state).write(&dir.join(&name))?;
         let mut parts = vec![("points", name)];
         if self.grid_frames {
             let g = format!("grid_{k:05}.vtu");
@@ -23,8 +23,11 @@ impl Framed for Mpm {
     }
 }
 
-/// The material points with their fields, in creation order.
-pub fn points_polydata(s: &State) -> PolyData {
+/// The material points with their fields, in creation order. Fields of the state
+/// only some runs have are written when some body has them: `plastic_strain` (J2),
+/// `dissipated_density` (J2, Maxwell), `bond` (bonded interfaces), `temperature` and
+/// `thermal_work` (prescribed temperatures).
+pub fn points_polydata(setup: &Setup, s: &State) -> PolyData {
     let p = &s.particles;
     let mut order: Vec<usize> = (0..p.len()).collect();
     order.sort_unstable_by_key(|&i| p.id[i]);
@@ -52,6 +55,39 @@ pub fn points_polydata(s: &State) -> PolyData {
         DataArray::scalar_f64("volume", f(&|i| p.volume(i))),
         DataArray::scalar_f64("jacobian", f(&|i| p.def[i].determinant())),
     ];
+    let has =
+        |m: fn(&Material) -> bool| setup.bodies.iter().any(|b| m(&setup.materials[b.material]));
+    if has(|m| matches!(m, Material::J2Plastic { .. })) {
+        poly.point_data.push(DataArray::scalar_f64(
+            "plastic_strain",
+            f(&|i| p.plastic[i]),
+        ));
+    }
+    if has(|m| matches!(m, Material::J2Plastic { .. } | Material::Maxwell { .. })) {
+        poly.point_data.push(DataArray::scalar_f64(
+            "dissipated_density",
+            f(&|i| p.dissipated[i] / p.volume(i)),
+        ));
+    }
+    if setup.bonds() {
+        poly.point_data
+            .push(DataArray::scalar_f64("bond", f(&|i| p.bond[i])));
+    }
+    if setup.bodies.iter().any(|b| b.temperature.is_some()) {
+        let temperature: Vec<f64> = setup
+            .bodies
+            .iter()
+            .map(|b| b.temperature.as_ref().map_or(f64::NAN, |h| h.at(s.time)))
+            .collect();
+        poly.point_data.push(DataArray::scalar_f64(
+            "temperature",
+            f(&|i| temperature[p.body[i] as usize]),
+        ));
+        poly.point_data.push(DataArray::scalar_f64(
+            "thermal_work",
+            f(&|i| p.thermal_work[i]),
+        ));
+    }
     poly
 }
 

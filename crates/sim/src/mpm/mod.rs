@@ -4,9 +4,15 @@
 
 pub mod assemble;
 pub mod check;
+pub mod check_input;
+pub mod concentric;
+pub mod debond;
+pub mod drive;
 pub mod frames;
 pub mod plots;
 pub mod probes;
+pub mod reference;
+pub mod response;
 pub mod run;
 pub mod scenario;
 pub mod watch;
@@ -14,7 +20,7 @@ pub mod watch;
 use crate::driver::{Clock, ParticleView, Simulation};
 use crate::output::Capabilities;
 use grains_mpm::diagnostics::{measure, Diagnostics};
-use grains_mpm::{step, Setup, Solver, State};
+use grains_mpm::{step, Motion, Setup, Solver, State};
 use probes::{BodySample, Sample};
 use std::borrow::Cow;
 
@@ -40,6 +46,8 @@ pub struct Mpm {
     pub dt: f64,
     /// Also write the grid with every frame.
     pub grid_frames: bool,
+    /// Rigid bodies whose velocity follows a table.
+    pub drives: Vec<(usize, drive::VelocityTable)>,
     /// The last sample, against which rotations are unwrapped.
     last: Option<MpmSample>,
 }
@@ -54,6 +62,15 @@ pub struct MpmSample {
 }
 
 impl Mpm {
+    /// The index of the body named `name` (a name the scenario's validation has seen).
+    pub fn body(&self, name: &str) -> usize {
+        self.setup
+            .bodies
+            .iter()
+            .position(|b| b.name == name)
+            .expect("validated body name")
+    }
+
     /// The last sample taken, if any.
     pub fn last_sample(&self) -> Option<MpmSample> {
         self.last.clone()
@@ -69,13 +86,25 @@ impl Mpm {
             solver,
             dt: a.dt,
             grid_frames,
+            drives: a.drives.clone(),
             last: None,
         }
     }
 }
 
+/// Mean in-plane stress (σ_xx + σ_yy)/2 of each body's points.
+fn mean_stresses(p: &grains_mpm::Particles, ranges: &[(usize, usize)]) -> Vec<f64> {
+    ranges
+        .iter()
+        .map(|&(a, b)| {
+            let sum: f64 = p.stress[a..b].iter().map(|s| 0.5 * (s.xx + s.yy)).sum();
+            sum / (b - a).max(1) as f64
+        })
+        .collect()
+}
+
 /// Unwraps each body's rotation against the previous sample.
-fn to_sample(d: &Diagnostics, t: f64, prev: Option<&Sample>) -> Sample {
+fn to_sample(d: &Diagnostics, stress: &[f64], t: f64, prev: Option<&Sample>) -> Sample {
     let bodies = d
         .bodies
         .iter()
@@ -95,12 +124,18 @@ fn to_sample(d: &Diagnostics, t: f64, prev: Option<&Sample>) -> Sample {
                 velocity: x.velocity,
                 omega: x.omega,
                 angle,
+                mean_stress: stress[b],
+                debonded: x.lengths.debonded,
+                surface: x.lengths.surface,
             }
         })
         .collect();
     Sample {
         t,
         energy: d.total(),
+        balance: d.balance(),
+        dissipated: d.dissipated,
+        thermal_work: d.thermal_work,
         momentum: d.momentum,
         bodies,
     }
@@ -117,16 +152,19 @@ impl Simulation for Mpm {
     }
 
     fn advance(&mut self) -> Result<(), String> {
+        for (b, table) in &self.drives {
+            let v = table.over_step(self.state.time, self.dt);
+            self.setup.bodies[*b].motion = Motion::Prescribed(v);
+        }
         step(&self.setup, &mut self.state, &mut self.solver, self.dt).map_err(|e| e.to_string())
     }
 
     fn sample(&mut self) -> MpmSample {
-        let d = measure(
-            &self.setup,
-            &self.state.particles,
-            &self.solver.layout().bodies,
-        );
-        let sample = to_sample(&d, self.state.time, self.last.as_ref().map(|s| &s.sample));
+        let ranges = &self.solver.layout().bodies;
+        let d = measure(&self.setup, &self.state.particles, ranges);
+        let stress = mean_stresses(&self.state.particles, ranges);
+        let prev = self.last.as_ref().map(|s| &s.sample);
+        let sample = to_sample(&d, &stress, self.state.time, prev);
         let s = MpmSample {
             diagnostics: d,
             sample,

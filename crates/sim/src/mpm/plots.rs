@@ -1,10 +1,12 @@
 //! PNG plots written at the end of a run: energies and momenta against time (the
-//! paper's Figs. 2 and 4), body motion, and the points at each impact (Fig. 3).
+//! paper's Figs. 2 and 4), body motion, the points at each impact (Fig. 3), the
+//! response the material checks probe against its closed form, and for bonded
+//! interfaces the points coloured by bond (Fig. 5) and the debonded length.
 
 use glam::DVec2;
 use grains_core::history::History;
 use grains_core::plot::{time_label, LinePlot, Outline, ParticleMap, Series};
-use grains_mpm::Setup;
+use grains_mpm::{Geometry, Setup};
 use std::path::Path;
 
 /// The points at one moment, coloured by a value.
@@ -59,6 +61,12 @@ pub fn write_all(
         energies.push(("potential", col("potential")));
     }
     energies.push(("total", col("total")));
+    let (dissipated, thermal) = (col("dissipated"), col("thermal_work"));
+    if dissipated.iter().chain(&thermal).any(|x| *x != 0.0) {
+        energies.push(("dissipated", dissipated));
+        energies.push(("thermal work", thermal));
+        energies.push(("total + dissipated − thermal work", col("balance")));
+    }
     line(
         dir,
         "energies.png",
@@ -121,6 +129,108 @@ pub fn write_all(
         .write_png(&dir.join(file))?;
     }
     Ok(())
+}
+
+/// One line plot a record asks for.
+pub struct Curves {
+    /// File name.
+    pub file: String,
+    /// Caption.
+    pub title: String,
+    /// X axis label, with unit.
+    pub x_label: String,
+    /// Y axis label, with unit.
+    pub y_label: String,
+    /// (legend, x, y).
+    pub series: Vec<(String, Vec<f64>, Vec<f64>)>,
+    /// Logarithmic y axis.
+    pub log_y: bool,
+}
+
+/// Writes each of `curves` into `dir`.
+pub fn write_curves(dir: &Path, curves: &[Curves]) -> anyhow::Result<()> {
+    for c in curves {
+        LinePlot {
+            title: &c.title,
+            x_label: &c.x_label,
+            y_label: &c.y_label,
+            series: c
+                .series
+                .iter()
+                .map(|(n, x, y)| Series { name: n, x, y })
+                .collect(),
+            log_y: c.log_y,
+            points: false,
+        }
+        .write_png(&dir.join(&c.file))?;
+    }
+    Ok(())
+}
+
+/// The points coloured by their bond strength, one map per moment (the paper's Fig. 5),
+/// with the initial body outlines drawn.
+pub fn bond_maps(
+    dir: &Path,
+    maps: &[(String, String, Snapshot)],
+    shapes: &[Geometry],
+    point_radius: f64,
+) -> anyhow::Result<()> {
+    let outlines: Vec<Outline> = shapes.iter().flat_map(outlines).collect();
+    for (file, caption, s) in maps {
+        let radii = vec![point_radius; s.pos.len()];
+        ParticleMap {
+            title: &format!(
+                "Bond strength at t = {} ({caption}); lines: initial body outlines",
+                time_label(s.t)
+            ),
+            centres: &s.pos,
+            radii: &radii,
+            values: &s.value,
+            value_label: "bond strength (Pa); 0 = debonded",
+            outlines: &outlines,
+        }
+        .write_png(&dir.join(file))?;
+    }
+    Ok(())
+}
+
+/// A body's initial outline: circles as 128-gons, rectangles, polygons, the parts of a
+/// difference.
+fn outlines(g: &Geometry) -> Vec<Outline> {
+    let circle = |c: [f64; 2], r: f64| Outline {
+        points: (0..128)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 128.0;
+                DVec2::from(c) + r * DVec2::new(a.cos(), a.sin())
+            })
+            .collect(),
+        closed: true,
+    };
+    match g {
+        Geometry::Disk { centre, radius } => vec![circle(*centre, *radius)],
+        Geometry::Annulus {
+            centre,
+            inner,
+            outer,
+        } => vec![circle(*centre, *inner), circle(*centre, *outer)],
+        Geometry::Rectangle { lo, hi } => vec![Outline {
+            points: vec![
+                DVec2::from(*lo),
+                DVec2::new(hi[0], lo[1]),
+                DVec2::from(*hi),
+                DVec2::new(lo[0], hi[1]),
+            ],
+            closed: true,
+        }],
+        Geometry::Polygon { vertices } => vec![Outline {
+            points: vertices.iter().map(|v| DVec2::from(*v)).collect(),
+            closed: true,
+        }],
+        Geometry::Difference { base, minus } => outlines(base)
+            .into_iter()
+            .chain(minus.iter().flat_map(outlines))
+            .collect(),
+    }
 }
 
 /// The grid edges that are walls, as lines.

@@ -10,7 +10,52 @@ use crate::frames::FrameRecorder;
 use crate::history::{HistoryRecorder, Recorded};
 use crate::run::{drive, finish, fresh_out, summary, Costs, Finished, RunError, RunOptions};
 use crate::source::Source;
+use grains_mpm::{Material, Setup};
 use std::path::Path;
+
+/// A per-body history column beyond the kinematics, written only where it means
+/// something.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Extra {
+    /// The body's prescribed temperature.
+    Temperature,
+    /// Largest equivalent plastic strain (J2 bodies).
+    PlasticMax,
+    /// Energy dissipated (J2 and Maxwell bodies).
+    Dissipated,
+    /// Debonded length of its interfaces (bonded bodies).
+    DebondedLength,
+    /// Its perimeter as the grid sees it (bonded bodies).
+    SurfaceLength,
+}
+
+impl Extra {
+    const ALL: [(Extra, &'static str); 5] = [
+        (Extra::Temperature, "temperature"),
+        (Extra::PlasticMax, "plastic_max"),
+        (Extra::Dissipated, "dissipated"),
+        (Extra::DebondedLength, "debonded_length"),
+        (Extra::SurfaceLength, "surface_length"),
+    ];
+
+    fn applies(self, setup: &Setup, b: usize) -> bool {
+        let body = &setup.bodies[b];
+        let m = &setup.materials[body.material];
+        match self {
+            Extra::Temperature => body.temperature.is_some(),
+            Extra::PlasticMax => matches!(m, Material::J2Plastic { .. }),
+            Extra::Dissipated => matches!(m, Material::J2Plastic { .. } | Material::Maxwell { .. }),
+            Extra::DebondedLength | Extra::SurfaceLength => setup.contact.bond_of(b) > 0.0,
+        }
+    }
+
+    /// The extras of body `b`, with their column suffixes.
+    fn of(setup: &Setup, b: usize) -> impl Iterator<Item = (Extra, &'static str)> + '_ {
+        Self::ALL
+            .into_iter()
+            .filter(move |(e, _)| e.applies(setup, b))
+    }
+}
 
 impl Recorded for Mpm {
     fn columns(&self) -> Vec<String> {
@@ -21,13 +66,16 @@ impl Recorded for Mpm {
             "strain",
             "potential",
             "total",
+            "dissipated",
+            "thermal_work",
+            "balance",
             "momentum_x",
             "momentum_y",
             "max_speed",
         ]
         .map(String::from)
         .to_vec();
-        for b in &self.setup.bodies {
+        for (b, body) in self.setup.bodies.iter().enumerate() {
             for s in [
                 "x",
                 "y",
@@ -35,10 +83,14 @@ impl Recorded for Mpm {
                 "vy",
                 "omega",
                 "rotation",
+                "mean_stress",
                 "touch_wall",
                 "touch_body",
             ] {
-                c.push(format!("{}_{s}", b.name));
+                c.push(format!("{}_{s}", body.name));
+            }
+            for (_, s) in Extra::of(&self.setup, b) {
+                c.push(format!("{}_{s}", body.name));
             }
         }
         c
@@ -62,6 +114,9 @@ impl Recorded for Mpm {
             d.strain,
             d.potential,
             d.total(),
+            d.dissipated,
+            d.thermal_work,
+            d.balance(),
             d.momentum.x,
             d.momentum.y,
             d.max_speed,
@@ -75,9 +130,23 @@ impl Recorded for Mpm {
                 x.velocity.y,
                 x.omega,
                 x.angle,
+                x.mean_stress,
                 (t.walls != 0) as u8 as f64,
                 (t.body_nodes > 0) as u8 as f64,
             ]);
+            let body = &self.setup.bodies[b];
+            for (e, _) in Extra::of(&self.setup, b) {
+                r.push(match e {
+                    Extra::Temperature => body
+                        .temperature
+                        .as_ref()
+                        .map_or(f64::NAN, |h| h.at(self.state.time)),
+                    Extra::PlasticMax => d.bodies[b].plastic_max,
+                    Extra::Dissipated => d.bodies[b].dissipated,
+                    Extra::DebondedLength => d.bodies[b].lengths.debonded,
+                    Extra::SurfaceLength => d.bodies[b].lengths.surface,
+                });
+            }
         }
         r
     }
@@ -129,7 +198,14 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
         out.display()
     ));
     let nodes = (a.setup.grid.stored()[0] * a.setup.grid.stored()[1]) as u64;
-    let e = super::check::cost(a.particles.len() as u64, nodes, a.steps, opts.threads);
+    let branches = a.setup.branch_width() as u64;
+    let e = super::check::cost(
+        a.particles.len() as u64,
+        nodes,
+        branches,
+        a.steps,
+        opts.threads,
+    );
     if let Some(w) = e.warning() {
         opts.progress.announce(&format!("warning: {w}"));
     }
@@ -155,13 +231,19 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
         )?
     };
     let pitch = sim.setup.grid.h * sim.setup.half_width;
+    let dir = out.join("plots");
     plots::write_all(
-        &out.join("plots"),
+        &dir,
         &history.history,
         &sim.setup,
         watch.snapshots.as_deref().unwrap_or_default(),
         pitch,
     )?;
+    plots::write_curves(&dir, &watch.response.curves(&sim, &s.checks))?;
+    if let Some(d) = &watch.debond {
+        plots::write_curves(&dir, &d.curves(&sim, &watch.record))?;
+        plots::bond_maps(&dir, &d.snapshots, &a.geometry, pitch)?;
+    }
     let mut counts = serde_json::Map::new();
     counts.insert("bodies".into(), sim.setup.bodies.len().into());
     let costs = Costs {

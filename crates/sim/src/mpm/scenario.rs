@@ -1,7 +1,7 @@
 //! The MPM scenario file (`engine = "mpm"`), parsed strictly (`deny_unknown_fields`
 //! everywhere) and reported with one-line errors.
 
-use grains_mpm::{Geometry, Material};
+use grains_mpm::{Geometry, Material, TemperatureHistory};
 use serde::{Deserialize, Serialize};
 
 /// A whole scenario file.
@@ -146,9 +146,26 @@ pub struct BodySpec {
     /// Initial velocity (m/s); for a rigid body, its prescribed velocity.
     #[serde(default)]
     pub velocity: [f64; 2],
+    /// Initial velocity gradient L (1/s), rows `[[∂vx/∂x, ∂vx/∂y], [∂vy/∂x, ∂vy/∂y]]`:
+    /// a point at x starts with `velocity + L·x` (e.g. a block already in simple shear).
+    #[serde(default)]
+    pub velocity_gradient: Option<[[f64; 2]; 2]>,
     /// Rigid mover with prescribed velocity.
     #[serde(default)]
     pub rigid: bool,
+    /// A rigid body's velocity over time: rows `[t, vx, vy]`, times strictly increasing,
+    /// linear in between, held before the first row and after the last.
+    #[serde(default)]
+    pub velocity_table: Option<Vec<[f64; 3]>>,
+    /// Prescribed temperature of the body (its material's `expansion` turns changes
+    /// into thermal strain): `{ history = "rate", initial, rate }` or
+    /// `{ history = "table", points = [[t, T], ...] }`.
+    #[serde(default)]
+    pub temperature: Option<TemperatureHistory>,
+    /// Fill `geometry` minus the shapes of these bodies (names; `"*"`: every other
+    /// body), e.g. a binder around grains.
+    #[serde(default)]
+    pub minus: Vec<String>,
 }
 
 /// A contact law's name.
@@ -159,6 +176,9 @@ pub enum LawName {
     Coulomb,
     /// One shared velocity field.
     NoSlip,
+    /// Bonded up to a normal traction `strength` (Pa), then Coulomb with `mu` where the
+    /// bond failed (Bardenhagen et al. 1998).
+    Bonded,
 }
 
 /// `[contact]`: the law between any two bodies, and per-pair overrides.
@@ -168,9 +188,13 @@ pub struct ContactSpec {
     /// Default law.
     #[serde(default = "default_law")]
     pub law: LawName,
-    /// Friction coefficient of the default Coulomb law.
+    /// Friction coefficient of the default Coulomb law (or of a bonded law once the
+    /// bond failed).
     #[serde(default)]
     pub mu: Option<f64>,
+    /// Bond strength (Pa) of the default law when it is `"bonded"`.
+    #[serde(default)]
+    pub strength: Option<f64>,
     /// Correct only where two bodies touch, judged from where their material sits at
     /// each node (Nairn's position method), instead of wherever their grid supports
     /// overlap. (Walls always use approach with their exact normals.)
@@ -198,6 +222,7 @@ impl Default for ContactSpec {
         ContactSpec {
             law: LawName::Coulomb,
             mu: None,
+            strength: None,
             separation_test: true,
             separation_factor: default_separation_factor(),
             pair: Vec::new(),
@@ -213,9 +238,12 @@ pub struct PairSpec {
     pub bodies: [String; 2],
     /// Law.
     pub law: LawName,
-    /// Friction coefficient for `coulomb`.
+    /// Friction coefficient for `coulomb` (and `bonded`, once debonded).
     #[serde(default)]
     pub mu: Option<f64>,
+    /// Bond strength (Pa) for `bonded`.
+    #[serde(default)]
+    pub strength: Option<f64>,
 }
 
 /// `[run]`.
@@ -266,8 +294,9 @@ pub enum CheckSpec {
         /// Relative tolerance.
         tolerance: f64,
     },
-    /// Fraction of the initial total energy lost, measured in the free flight after
-    /// wall impact number `after_impact` (from 1) of `body`.
+    /// Fraction of the initial total energy lost (negative: gained), measured in the
+    /// free flight after wall impact number `after_impact` (from 1) of `body`; passes
+    /// when its magnitude is at most `max`.
     EnergyLoss {
         /// Check name.
         name: String,
@@ -278,9 +307,10 @@ pub enum CheckSpec {
         /// Largest fraction allowed.
         max: f64,
     },
-    /// Largest deviation of |Σ m v| from its initial value in free flight (between
-    /// impacts), as a fraction.
-    MomentumBetweenImpacts {
+    /// Largest change, over the body's wall impacts, of its momentum along the wall it
+    /// hit (means over the free flights before and after), as a fraction of that
+    /// momentum: a frictionless impact leaves it unchanged.
+    TangentialMomentumChange {
         /// Check name.
         name: String,
         /// Body whose impacts count.
@@ -340,8 +370,8 @@ pub enum CheckSpec {
         /// Relative tolerance.
         tolerance: f64,
     },
-    /// Energy loss after impact `after_impact` no larger than that of a reference
-    /// scenario (run first, without output).
+    /// Energy change |ΔE|/E0 after impact `after_impact` no larger than that of a
+    /// reference scenario (run first, without output).
     EnergyLossBelowReference {
         /// Check name.
         name: String,
@@ -352,6 +382,163 @@ pub enum CheckSpec {
         /// The reference scenario, relative to this file.
         reference: String,
     },
+    /// A J2 body in simple shear (perfectly plastic, `hardening = 0`): the mean shear
+    /// stress σ_xy of its points in `region` at the end against k = σ_y/√3.
+    ShearStressPlateau {
+        /// Check name.
+        name: String,
+        /// The sheared J2 body.
+        body: String,
+        /// Where the stress is averaged (away from plates and free ends).
+        region: Region,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
+    /// A hardening J2 body in simple shear: the least-squares slope dτ/dγ of the mean
+    /// shear stress against the mean shear strain F_xy in `region`, over γ > 3k/G,
+    /// against G H/(H + 3G).
+    HardeningSlope {
+        /// Check name.
+        name: String,
+        /// The sheared J2 body (`hardening > 0`).
+        body: String,
+        /// Where stress and strain are averaged.
+        region: Region,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
+    /// A one-term Maxwell body (G∞ = 0) under held shear: the relaxation time of an
+    /// exponential fitted to the mean shear stress in `region` from time `after` on,
+    /// against τ₁ = η/G.
+    RelaxationTime {
+        /// Check name.
+        name: String,
+        /// The Maxwell body.
+        body: String,
+        /// Where the stress is averaged.
+        region: Region,
+        /// Start of the fit (s), once the shear is held.
+        after: f64,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
+    /// A free body heated uniformly: its mean in-plane strain ½ ln det F at the end
+    /// against the plane-strain free strain (1 + ν) α ΔT.
+    ThermalStrain {
+        /// Check name.
+        name: String,
+        /// The heated body (with a `temperature` history).
+        body: String,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
+    /// A free body heated uniformly: the largest in-plane stress component of its points
+    /// at the end, over K α |ΔT|.
+    InPlaneStress {
+        /// Check name.
+        name: String,
+        /// The heated body.
+        body: String,
+        /// Largest ratio allowed.
+        max: f64,
+    },
+    /// A free body heated uniformly in plane strain: its mean σ_zz at the end against
+    /// −E α ΔT (the confined out-of-plane direction).
+    OutOfPlaneStress {
+        /// Check name.
+        name: String,
+        /// The heated body.
+        body: String,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
+    /// The energy ledger: the largest drift of kinetic + strain + potential + dissipated
+    /// − thermal work over the run, as a fraction of the largest energy that went
+    /// through it (initial total, dissipated, thermal work).
+    EnergyBalance {
+        /// Check name.
+        name: String,
+        /// Largest fraction allowed.
+        max: f64,
+    },
+    /// Concentric cylinders: the mean in-plane stress of the inner disk's core (r <
+    /// `core`·a), averaged over the samples from `after` on, against the static
+    /// plane-strain solution σ_rr(a) for the temperature changes at the end.
+    InterfaceRadialStress {
+        /// Check name.
+        name: String,
+        /// The inner disk.
+        inner: String,
+        /// The annulus around it.
+        outer: String,
+        /// Start of the time average (s).
+        after: f64,
+        /// Radius of the sampled core as a fraction of the disk's.
+        #[serde(default = "default_core")]
+        core: f64,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
+    /// Concentric cylinders with a finite bond: the first time a bond fails, against the
+    /// time the static interface traction reaches the bond strength.
+    DebondOnsetTime {
+        /// Check name.
+        name: String,
+        /// The inner disk.
+        inner: String,
+        /// The bonded annulus.
+        outer: String,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
+    /// Concentric cylinders: the debonding front's speed along the interface over the
+    /// plane-strain Rayleigh speed of the outer material. The speed is the slope of the
+    /// inner disk's debonded length between 10 % and 90 % of its perimeter, divided by
+    /// two fronts per initiation site.
+    DebondSpeedOverRayleigh {
+        /// Check name.
+        name: String,
+        /// The inner disk.
+        inner: String,
+        /// The bonded annulus.
+        outer: String,
+        /// The interval (lo, hi] the ratio must fall in.
+        range: [f64; 2],
+    },
+    /// After the bond has failed: the time-averaged mean in-plane stress of `body` from
+    /// `after` seconds past the onset to the end, as a fraction of its largest |·|
+    /// before the onset (its bonded peak).
+    StressFreeAfterDebond {
+        /// Check name.
+        name: String,
+        /// The body that should unload.
+        body: String,
+        /// Delay after the onset before averaging (s).
+        after: f64,
+        /// Largest fraction allowed.
+        max: f64,
+    },
+}
+
+/// An axis-aligned rectangle of the domain (m).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Region {
+    /// Lower-left corner.
+    pub lo: [f64; 2],
+    /// Upper-right corner.
+    pub hi: [f64; 2],
+}
+
+impl Region {
+    /// True if `x` lies inside.
+    pub fn contains(&self, x: glam::DVec2) -> bool {
+        x.x > self.lo[0] && x.x < self.hi[0] && x.y > self.lo[1] && x.y < self.hi[1]
+    }
+}
+
+fn default_core() -> f64 {
+    0.8
 }
 
 fn default_normal() -> [f64; 2] {
@@ -359,17 +546,57 @@ fn default_normal() -> [f64; 2] {
 }
 
 impl CheckSpec {
-    /// The body the check watches, if any.
-    pub fn body(&self) -> Option<&str> {
+    /// The bodies the check names, with their keys.
+    pub fn bodies(&self) -> Vec<(&'static str, &str)> {
         match self {
-            CheckSpec::InitialEnergy { .. } | CheckSpec::InitialMomentum { .. } => None,
+            CheckSpec::InitialEnergy { .. }
+            | CheckSpec::InitialMomentum { .. }
+            | CheckSpec::EnergyBalance { .. } => vec![],
             CheckSpec::EnergyLoss { body, .. }
-            | CheckSpec::MomentumBetweenImpacts { body, .. }
+            | CheckSpec::TangentialMomentumChange { body, .. }
             | CheckSpec::Rotation { body, .. }
             | CheckSpec::ImpactTangentialVelocity { body, .. }
             | CheckSpec::ImpactSpin { body, .. }
-            | CheckSpec::Acceleration { body, .. }
-            | CheckSpec::EnergyLossBelowReference { body, .. } => Some(body),
+            | CheckSpec::EnergyLossBelowReference { body, .. }
+            | CheckSpec::ShearStressPlateau { body, .. }
+            | CheckSpec::HardeningSlope { body, .. }
+            | CheckSpec::RelaxationTime { body, .. }
+            | CheckSpec::ThermalStrain { body, .. }
+            | CheckSpec::InPlaneStress { body, .. }
+            | CheckSpec::OutOfPlaneStress { body, .. }
+            | CheckSpec::StressFreeAfterDebond { body, .. } => vec![("body", body)],
+            CheckSpec::Acceleration { body, on, .. } => vec![("body", body), ("on", on)],
+            CheckSpec::InterfaceRadialStress { inner, outer, .. }
+            | CheckSpec::DebondOnsetTime { inner, outer, .. }
+            | CheckSpec::DebondSpeedOverRayleigh { inner, outer, .. } => {
+                vec![("inner", inner), ("outer", outer)]
+            }
+        }
+    }
+
+    /// The check's name.
+    pub fn name(&self) -> &str {
+        match self {
+            CheckSpec::InitialEnergy { name, .. }
+            | CheckSpec::InitialMomentum { name, .. }
+            | CheckSpec::EnergyLoss { name, .. }
+            | CheckSpec::TangentialMomentumChange { name, .. }
+            | CheckSpec::Rotation { name, .. }
+            | CheckSpec::ImpactTangentialVelocity { name, .. }
+            | CheckSpec::ImpactSpin { name, .. }
+            | CheckSpec::Acceleration { name, .. }
+            | CheckSpec::EnergyLossBelowReference { name, .. }
+            | CheckSpec::ShearStressPlateau { name, .. }
+            | CheckSpec::HardeningSlope { name, .. }
+            | CheckSpec::RelaxationTime { name, .. }
+            | CheckSpec::ThermalStrain { name, .. }
+            | CheckSpec::InPlaneStress { name, .. }
+            | CheckSpec::OutOfPlaneStress { name, .. }
+            | CheckSpec::EnergyBalance { name, .. }
+            | CheckSpec::InterfaceRadialStress { name, .. }
+            | CheckSpec::DebondOnsetTime { name, .. }
+            | CheckSpec::DebondSpeedOverRayleigh { name, .. }
+            | CheckSpec::StressFreeAfterDebond { name, .. } => name,
         }
     }
 }
