@@ -174,6 +174,17 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, String> {
             "must be in (0, 1]",
         ));
     }
+    if let Some(d) = &a.dispersal {
+        if s.ring.is_none() {
+            return Err(err(
+                "analysis.dispersal",
+                "(a table)",
+                "needs a [ring]: a bare charge has no particles to analyse",
+            ));
+        }
+        d.validate("analysis.dispersal", s.run.duration)
+            .map_err(|e| e.to_string())?;
+    }
 
     let ring = match &s.ring {
         Some(_) => Some(ring_part(s, base, &fem, &mesh)?),
@@ -361,6 +372,7 @@ fn ring_part(s: &Scenario, base: &Path, fem: &FemSetup, mesh: &Mesh) -> Result<R
         output: Default::default(),
         checks: Vec::new(),
         figures: Vec::new(),
+        dispersal: None,
     };
     // The DEM scenario names its own keys; say where they sit in this scenario. The
     // ring's material sits in `[ring]`, everything else in `[ring.packing]`.

@@ -216,6 +216,19 @@ pub struct AnalysisSpec {
     /// the terminal velocity.
     #[serde(default = "default_terminal_window")]
     pub terminal_window: f64,
+    /// Keep the grains' energy ledger (contact damping, friction, stored contact
+    /// energy; history columns and `figures.energy_ledger`). Default on: it changes
+    /// nothing in the run and costs a few per cent of the particles' step.
+    #[serde(default = "default_true")]
+    pub energy_ledger: bool,
+    /// `[analysis.dispersal]`: the dispersal analysis of xue-2019 §§4.2–5 during the
+    /// run (fields, fronts, profiles, band and spall, shear bands, jets).
+    #[serde(default)]
+    pub dispersal: Option<crate::dispersal::DispersalSettings>,
+}
+
+fn default_true() -> bool {
+    true
 }
 
 fn default_band_fraction() -> f64 {
@@ -239,6 +252,8 @@ impl Default for AnalysisSpec {
             sectors: None,
             stressed_pressure: default_stressed(),
             terminal_window: default_terminal_window(),
+            energy_ledger: true,
+            dispersal: None,
         }
     }
 }
