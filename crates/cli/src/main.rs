@@ -100,8 +100,9 @@ enum Command {
         /// Print the figures as JSON.
         #[arg(long)]
         json: bool,
-        /// Run directory only: analyse the frames nearest these times (s), each with
-        /// its polar maps (default: every frame, maps at the scenario's times).
+        /// Run directory only: draw the polar maps at the frames nearest these times
+        /// (s) (default: the scenario's `[analysis.dispersal] times`, or the last
+        /// frame). Every frame is analysed either way.
         #[arg(long, value_delimiter = ',', num_args = 1..)]
         times: Option<Vec<f64>>,
     },

@@ -2,7 +2,7 @@
 
 use crate::contact::{PairParams, PairTable};
 use crate::domain::Image;
-use crate::ledger::{EnergyLedger, Off, On, Tally};
+use crate::ledger::{EnergyLedger, Off, On, PassTally, Tally};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
@@ -137,7 +137,7 @@ pub fn pair_contacts(
         None => {
             dispatch::<Off>(setup, p, list, dt);
         }
-        Some(l) => *l += dispatch::<On>(setup, p, list, dt),
+        Some(l) => l.record(&dispatch::<On>(setup, p, list, dt)),
     }
 }
 
@@ -146,7 +146,7 @@ fn dispatch<T: Tally>(
     p: &mut Particles,
     list: &mut ContactList,
     dt: f64,
-) -> EnergyLedger {
+) -> PassTally {
     if setup.pairs.len() == 1 {
         let uniform = Uniform(*setup.pairs.get(0, 0));
         crate::with_image!(
@@ -169,7 +169,7 @@ fn run<L: PairLookup, T: Tally, const PX: bool, const PY: bool>(
     p: &mut Particles,
     list: &mut ContactList,
     dt: f64,
-) -> EnergyLedger {
+) -> PassTally {
     let n = p.len();
     let row = &list.row;
     // Split entry and particle arrays at chunk boundaries so each task owns its slices.
@@ -214,11 +214,11 @@ fn run<L: PairLookup, T: Tally, const PX: bool, const PY: bool>(
     };
     if T::ON {
         // Per chunk, then in chunk order: the same sum for any thread count.
-        let parts: Vec<EnergyLedger> = jobs
+        let parts: Vec<PassTally> = jobs
             .into_par_iter()
             .map(|mut job| ctx.chunk(&mut job))
             .collect();
-        let mut total = EnergyLedger::default();
+        let mut total = PassTally::default();
         for part in parts {
             total += part;
         }
@@ -227,7 +227,7 @@ fn run<L: PairLookup, T: Tally, const PX: bool, const PY: bool>(
         jobs.into_par_iter().for_each(|mut job| {
             ctx.chunk(&mut job);
         });
-        EnergyLedger::default()
+        PassTally::default()
     }
 }
 
@@ -289,7 +289,9 @@ struct Block {
 struct Tallies {
     damped: [f64; BLOCK],
     slid: [f64; BLOCK],
-    sum: EnergyLedger,
+    /// ½K_n δ², ½K_t ξ² after and ½K_t ξ² before the pass.
+    stored: [[f64; 3]; BLOCK],
+    sum: PassTally,
 }
 
 impl Block {
@@ -318,8 +320,8 @@ impl Block {
 impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, PY> {
     /// The rows of one chunk. Forces of pairs inside the chunk go straight onto both
     /// particles; pairs reaching into a later chunk leave their force in the entry.
-    /// Returns what the chunk's contacts dissipated (zero without the ledger).
-    fn chunk(&self, c: &mut Chunk) -> EnergyLedger {
+    /// Returns the chunk's ledger terms (zero without the ledger).
+    fn chunk(&self, c: &mut Chunk) -> PassTally {
         let base = self.row[c.range.start] as usize;
         c.force.fill(DVec2::ZERO);
         c.torque.fill(0.0);
@@ -331,7 +333,8 @@ impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, 
             Box::new(Tallies {
                 damped: [0.0; BLOCK],
                 slid: [0.0; BLOCK],
-                sum: EnergyLedger::default(),
+                stored: [[0.0; 3]; BLOCK],
+                sum: PassTally::default(),
             })
         });
         for i in c.range.clone() {
@@ -357,16 +360,6 @@ impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, 
                 b.dy[t] = d.y;
                 b.rsum[t] = rsum;
                 b.xi[t] = c.shear[k];
-                if let (true, Some(tl)) = (T::ON, tally.as_mut()) {
-                    // A spring left on an entry that no longer touches is dropped here.
-                    let kt = if L::UNIFORM {
-                        self.lookup.params(0, 0).kt
-                    } else {
-                        self.lookup.params(self.material[i], self.material[j]).kt
-                    };
-                    let gone = (!touching) as u8 as f64;
-                    tl.sum.springs_released += gone * 0.5 * kt * c.shear[k] * c.shear[k];
-                }
                 c.shear[k] = 0.0;
                 if j >= c.range.end {
                     // Only cross-chunk entries carry their force out of the pass.
@@ -383,7 +376,7 @@ impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, 
         }
         b.len = len;
         self.flush(&mut b, c, tally.as_deref_mut());
-        tally.map_or_else(EnergyLedger::default, |tl| tl.sum)
+        tally.map_or_else(PassTally::default, |tl| tl.sum)
     }
 
     /// Runs the contact law over the block and scatters its forces.
@@ -400,6 +393,11 @@ impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, 
             let n = b.len.min(BLOCK);
             tl.sum.damping += tl.damped[..n].iter().sum::<f64>();
             tl.sum.friction += tl.slid[..n].iter().sum::<f64>();
+            for e in &tl.stored[..n] {
+                tl.sum.normal += e[0];
+                tl.sum.tangential += e[1];
+                tl.sum.tangential_before += e[2];
+            }
         }
         self.scatter(b, c);
     }
@@ -471,6 +469,12 @@ impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, 
                 let (x0, x1) = (b.xi[t], f.shear);
                 let dash_t = pp.gamma_t * (q * dist) * vt * vt * self.dt;
                 tl.damped[t] = (f.normal - elastic) * vn * self.dt + (1.0 - sliding) * dash_t;
+                let overlap = b.rsum[t] - dist;
+                tl.stored[t] = [
+                    0.5 * elastic * overlap,
+                    0.5 * pp.kt * x1 * x1,
+                    0.5 * pp.kt * x0 * x0,
+                ];
                 tl.slid[t] =
                     sliding * (pp.kt * (x1 * vt * self.dt - 0.5 * (x1 * x1 - x0 * x0)) + dash_t);
             }

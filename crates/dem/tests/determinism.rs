@@ -194,4 +194,12 @@ fn the_energy_ledger_changes_nothing() {
     assert_eq!(one.ledger, kept.ledger);
     let l = kept.ledger.unwrap();
     assert!(l.damping > 0.0 && l.friction > 0.0, "{l:?}");
+    // What the pass says the springs hold is what the state says.
+    let (setup, _) = bed(3000);
+    let now = grains_dem::EnergyLedger::starting(&setup, &kept);
+    assert!(
+        (now.stored() - l.stored()).abs() <= 1e-9 * l.stored(),
+        "{now:?} vs {l:?}"
+    );
+    assert!(l.stored_tangential > 0.0);
 }

@@ -79,8 +79,8 @@ pub struct BlastSample {
     pub fronts: Fronts,
     /// The ring's radii, band and spall.
     pub ring: Option<RingFigures>,
-    /// The ring's energies (kinetic, rotational, stored in contacts), with the ledger.
-    pub contacts: Option<grains_dem::diagnostics::Diagnostics>,
+    /// The ring's rotational kinetic energy (J/m), with the ledger.
+    pub rotational: Option<f64>,
 }
 
 impl Blast {
@@ -96,7 +96,8 @@ impl Blast {
                 let coupling = Coupling::new(rp.stiffness, rp.setup.skin);
                 let mut ring = Ring::new(rp.setup, rp.particles, coupling, &mut charge);
                 if s.analysis.energy_ledger {
-                    ring.state.ledger = Some(Default::default());
+                    let start = grains_dem::EnergyLedger::starting(&ring.setup, &ring.state);
+                    ring.state.ledger = Some(start);
                 }
                 (Some(ring), dt, rp.mean_diameter)
             }
@@ -205,11 +206,16 @@ impl Simulation for Blast {
             energies: energies(&self.fem, &self.charge),
             fronts: fronts(&self.charge),
             ring: self.ring_figures(),
-            contacts: self
+            rotational: self
                 .ring
                 .as_ref()
                 .filter(|r| r.state.ledger.is_some())
-                .map(|r| grains_dem::diagnostics::measure(&r.setup, &r.state)),
+                .map(|r| {
+                    let p = &r.state.particles;
+                    (0..p.len())
+                        .map(|i| 0.5 * p.omega[i] * p.omega[i] / p.inv_inertia[i])
+                        .sum()
+                }),
         }
     }
 

@@ -94,14 +94,8 @@ impl Recorded for Blast {
                 g.mean_velocity,
                 r.state.contacts.builds as f64,
             ]);
-            if let (Some(l), Some(d)) = (&r.state.ledger, &s.contacts) {
-                row.extend([
-                    d.kinetic_rotational,
-                    d.elastic,
-                    l.damping,
-                    l.friction,
-                    l.springs_released,
-                ]);
+            if let (Some(l), Some(rot)) = (&r.state.ledger, s.rotational) {
+                row.extend([rot, l.stored(), l.damping, l.friction, l.springs_released]);
             }
         }
         row
@@ -192,6 +186,7 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
             let p = &r.state.particles;
             (0..p.len()).map(|i| p.mass(i)).sum()
         }),
+        dispersal: outcome.report.figures.get("dispersal"),
     };
     let (checks, mut figures, arrival) = probes::evaluate(&ctx);
     figures.insert("max_penetration_ratio".into(), sim.max_penetration.into());

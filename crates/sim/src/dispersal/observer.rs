@@ -22,6 +22,7 @@ pub struct DispersalObserver {
     next_time: usize,
     every: Option<f64>,
     next_every: f64,
+    end: f64,
 }
 
 impl DispersalObserver {
@@ -49,6 +50,7 @@ impl DispersalObserver {
             next_time: 0,
             every: settings.every,
             next_every: settings.every.unwrap_or(f64::INFINITY),
+            end: duration,
         }
     }
 
@@ -86,7 +88,10 @@ impl<S: Dispersing> Observer<S> for DispersalObserver {
             chosen = true;
             self.next_time += 1;
         }
-        let maps = chosen || (self.times.is_empty() && kind == FrameKind::Final);
+        // Without chosen times, the maps of the run's end: its last regular frame when
+        // one falls there, else the final one.
+        let last = kind == FrameKind::Final || t >= self.end * (1.0 - 1e-9);
+        let maps = chosen || (self.times.is_empty() && last);
         if self.every_frame || maps {
             self.analyst
                 .analyse(&sim.dispersal_frame(), Writes { fields: true, maps })?;

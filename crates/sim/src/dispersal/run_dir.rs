@@ -4,9 +4,9 @@
 //! `RUN_DIR/analysis`): `frames/fields_*.vts`, `plots/dispersal/`, `analysis.json`.
 //!
 //! Every frame is analysed (as the run's `[analysis.dispersal]` would inline), with the
-//! maps at the frames nearest its `times` (or the last frame); `--times` analyses the
-//! frames nearest those times only, each with its maps. Analyses made inline between
-//! frames (`every`) have no frame to be repeated from.
+//! maps at the frames nearest its `times` (or at the last frame); `--times` puts the
+//! maps at the frames nearest those times instead. Analyses made inline between frames
+//! (`every`) have no frame to be repeated from.
 
 use super::analyst::{Analyst, Frame, Layout, Writes};
 use super::settings::DispersalSettings;
@@ -43,8 +43,8 @@ pub fn is_run_dir(path: &Path) -> bool {
     path.is_dir()
 }
 
-/// Analyses the run in `dir` into `out`; `times` picks frames (nearest each), none:
-/// every frame. Returns the figures written to `out/analysis.json`.
+/// Analyses the run in `dir` into `out`, with the maps at the frames nearest `times`
+/// (none: the scenario's). Returns the figures written to `out/analysis.json`.
 pub fn analyze_run(
     dir: &Path,
     out: &Path,
@@ -75,7 +75,7 @@ pub fn analyze_run(
             *m = true;
         }
     }
-    let analyse: Vec<bool> = if times.is_some() || !info.settings.every_frame() {
+    let analyse: Vec<bool> = if !info.settings.every_frame() {
         maps.clone()
     } else {
         vec![true; frames.len()]
