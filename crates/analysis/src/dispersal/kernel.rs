@@ -162,8 +162,11 @@ pub(crate) fn sector_reach(grid: &PolarGrid, w: f64, offset: f64, r_inner: f64) 
 /// cheaper than spreading it again.
 pub(crate) struct Pieces {
     start: Vec<u32>,
-    share: Vec<(u32, u32, f64)>,
+    share: Vec<Share>,
 }
+
+/// One source's share of one bin: ring, sector, weight.
+type Share = (u32, u32, f64);
 
 /// Sources spread in fixed chunks, so the pieces are the same whatever the threads.
 const PIECE_CHUNK: usize = 4096;
@@ -174,7 +177,7 @@ impl Pieces {
     where
         V: Fn(u32, &mut dyn FnMut(usize, usize, f64)) + Sync,
     {
-        let parts: Vec<(Vec<u32>, Vec<(u32, u32, f64)>)> = (0..n.div_ceil(PIECE_CHUNK))
+        let parts: Vec<(Vec<u32>, Vec<Share>)> = (0..n.div_ceil(PIECE_CHUNK))
             .into_par_iter()
             .map(|c| {
                 let range = c * PIECE_CHUNK..((c + 1) * PIECE_CHUNK).min(n);
