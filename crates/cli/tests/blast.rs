@@ -315,4 +315,14 @@ fn dispersal_analysis_inline_and_from_the_frames() {
     let bad = format!("{RING}\n[analysis.dispersal]\ntimes = [5.0e-6]\n");
     let (out, dir) = run_text(&bad, &[], &[]);
     assert_refused(&out, dir.path(), &["analysis.dispersal.times[0]", "5e-6"]);
+    let check = "\n[[check]]\nkind = \"shear_band_mode\"\nmode = 6\nfrom = 1e-6\nto = 2e-6\n";
+    let (out, dir) = run_text(&format!("{RING}{check}at_least = 0.5\n"), &[], &[]);
+    assert_refused(
+        &out,
+        dir.path(),
+        &["shear_band_mode", "[analysis.dispersal]"],
+    );
+    let both = format!("{RING}\n[analysis.dispersal]\n{check}at_least = 0.5\nat_most = 0.9\n");
+    let (out, dir) = run_text(&both, &[], &[]);
+    assert_refused(&out, dir.path(), &["at_least/at_most", "exactly one"]);
 }
