@@ -325,4 +325,14 @@ fn dispersal_analysis_inline_and_from_the_frames() {
     let both = format!("{RING}\n[analysis.dispersal]\n{check}at_least = 0.5\nat_most = 0.9\n");
     let (out, dir) = run_text(&both, &[], &[]);
     assert_refused(&out, dir.path(), &["at_least/at_most", "exactly one"]);
+    let count = "\n[[check]]\nkind = \"shear_band_count\"\nfrom = 1e-6\nto = 2e-6\n";
+    let (out, dir) = run_text(&format!("{RING}{count}at_most = 7\n"), &[], &[]);
+    assert_refused(
+        &out,
+        dir.path(),
+        &["shear_band_count", "[analysis.dispersal]"],
+    );
+    let negative = format!("{RING}\n[analysis.dispersal]\n{count}at_least = -1\n");
+    let (out, dir) = run_text(&negative, &[], &[]);
+    assert_refused(&out, dir.path(), &["at_least/at_most", "-1"]);
 }

@@ -202,6 +202,23 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, String> {
             shear_band_mode_valid(s, k, *mode, (*from, *to), (*at_least, *at_most))?;
             continue;
         }
+        if let CheckSpec::ShearBandCount {
+            from,
+            to,
+            at_least,
+            at_most,
+        } = chk
+        {
+            shear_band_window_valid(
+                s,
+                k,
+                "shear_band_count",
+                (*from, *to),
+                (*at_least, *at_most),
+                None,
+            )?;
+            continue;
+        }
         let tol = chk.tolerance();
         if !(tol.is_finite() && tol > 0.0) {
             return Err(err(
@@ -240,7 +257,9 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, String> {
                     ));
                 }
             }
-            CheckSpec::DetonationArrival { .. } | CheckSpec::ShearBandMode { .. } => {}
+            CheckSpec::DetonationArrival { .. }
+            | CheckSpec::ShearBandMode { .. }
+            | CheckSpec::ShearBandCount { .. } => {}
         }
     }
     Ok(Assembled {
@@ -497,19 +516,36 @@ fn shear_band_mode_valid(
     s: &Scenario,
     k: usize,
     mode: usize,
+    window: (f64, f64),
+    bounds: (Option<f64>, Option<f64>),
+) -> Result<(), String> {
+    if mode < 2 {
+        return Err(err(
+            &format!("check[{k}].mode"),
+            mode.to_string(),
+            "must be at least 2",
+        ));
+    }
+    shear_band_window_valid(s, k, "shear_band_mode", window, bounds, Some(1.0))
+}
+
+/// Checks the window and the bound of a shear-band check (the `k`-th, of `kind`): one
+/// of `at_least`/`at_most`, in [0, `max`] (a share: `max` = 1) or any finite value ≥ 0.
+fn shear_band_window_valid(
+    s: &Scenario,
+    k: usize,
+    kind: &str,
     (from, to): (f64, f64),
     bounds: (Option<f64>, Option<f64>),
+    max: Option<f64>,
 ) -> Result<(), String> {
     let key = |f: &str| format!("check[{k}].{f}");
     if s.analysis.dispersal.is_none() {
         return Err(err(
             &key("kind"),
-            "\"shear_band_mode\"",
+            format!("\"{kind}\""),
             "needs an [analysis.dispersal] table",
         ));
-    }
-    if mode < 2 {
-        return Err(err(&key("mode"), mode.to_string(), "must be at least 2"));
     }
     if !(from.is_finite() && to.is_finite() && 0.0 <= from && from < to) {
         return Err(err(
@@ -518,12 +554,17 @@ fn shear_band_mode_valid(
             "must satisfy 0 ≤ from < to",
         ));
     }
+    let top = max.unwrap_or(f64::INFINITY);
     match bounds {
-        (Some(b), None) | (None, Some(b)) if (0.0..=1.0).contains(&b) => Ok(()),
+        (Some(b), None) | (None, Some(b)) if b.is_finite() && (0.0..=top).contains(&b) => Ok(()),
         (Some(b), None) | (None, Some(b)) => Err(err(
             &key("at_least/at_most"),
             shown(b),
-            "must be a share in [0, 1]",
+            if max.is_some() {
+                "must be a share in [0, 1]"
+            } else {
+                "must be a finite number ≥ 0"
+            },
         )),
         _ => Err(err(
             &key("at_least/at_most"),

@@ -157,6 +157,9 @@ pub fn evaluate(cx: &Context) -> (Vec<Check>, Map<String, Value>, Vec<ArrivalBin
             CheckSpec::ShearBandMode { mode, from, to, at_least, at_most } => {
                 shear_band_mode_check(cx.dispersal, mode, (from, to), (at_least, at_most))
             }
+            CheckSpec::ShearBandCount { from, to, at_least, at_most } => {
+                shear_band_count_check(cx.dispersal, (from, to), (at_least, at_most))
+            }
         });
     }
     (checks, fig, arrival)
@@ -169,6 +172,60 @@ pub fn fill_to_burster_check(measured: f64, expected: f64, tolerance: f64) -> Ch
     )
 }
 
+/// The frames of the dispersal analysis at times in [from, to].
+fn frames_in(dispersal: Option<&Value>, (from, to): (f64, f64)) -> Vec<&Value> {
+    dispersal
+        .and_then(|d| d["frames"].as_array())
+        .map(|frames| {
+            frames
+                .iter()
+                .filter(|r| r["time"].as_f64().is_some_and(|t| t >= from && t <= to))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// An `at_least` or an `at_most` check, whichever bound is given.
+fn bounded(name: &str, measured: f64, (at_least, at_most): (Option<f64>, Option<f64>)) -> Check {
+    match (at_least, at_most) {
+        (Some(b), _) => Check::at_least(name, measured, b),
+        (_, b) => Check::at_most(name, measured, b.unwrap_or(f64::NAN)),
+    }
+}
+
+/// The `shear_band_count` check: the median number of groups of shear bands over the
+/// analysed times in [from, to] that have a band.
+fn shear_band_count_check(
+    dispersal: Option<&Value>,
+    window: (f64, f64),
+    bounds: (Option<f64>, Option<f64>),
+) -> Check {
+    let frames = frames_in(dispersal, window);
+    let mut groups: Vec<u64> = frames
+        .iter()
+        .filter_map(|r| r["shear_bands"]["groups"].as_u64())
+        .collect();
+    groups.sort_unstable();
+    let median = match groups.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => groups[n / 2] as f64,
+        n => 0.5 * (groups[n / 2 - 1] + groups[n / 2]) as f64,
+    };
+    let (lo, hi) = (groups.first().copied(), groups.last().copied());
+    bounded("shear_band_groups_median", median, bounds).with_note(&format!(
+        "median over the {} of {} times analysed in [{:.1}, {:.1}] µs that have a band \
+         (range {}–{}) of the groups of spiral shear bands at the band's inner perimeter, \
+         the shear rate's leading azimuthal mode there (xue-2019 §§5.4–5.5, Fig. 11: six \
+         groups in an ordered ring, tens in an amorphous one)",
+        groups.len(),
+        frames.len(),
+        window.0 * 1e6,
+        window.1 * 1e6,
+        lo.map_or("-".into(), |v| v.to_string()),
+        hi.map_or("-".into(), |v| v.to_string()),
+    ))
+}
+
 /// The `shear_band_mode` check: the share of the analysed times in [from, to] at which
 /// the shear rate's leading azimuthal mode at the band's inner perimeter is `mode`.
 fn shear_band_mode_check(
@@ -177,16 +234,10 @@ fn shear_band_mode_check(
     (from, to): (f64, f64),
     (at_least, at_most): (Option<f64>, Option<f64>),
 ) -> Check {
-    let modes: Vec<Option<u64>> = dispersal
-        .and_then(|d| d["frames"].as_array())
-        .map(|frames| {
-            frames
-                .iter()
-                .filter(|r| r["time"].as_f64().is_some_and(|t| t >= from && t <= to))
-                .map(|r| r["shear_bands"]["dominant_mode"].as_u64())
-                .collect()
-        })
-        .unwrap_or_default();
+    let modes: Vec<Option<u64>> = frames_in(dispersal, (from, to))
+        .iter()
+        .map(|r| r["shear_bands"]["dominant_mode"].as_u64())
+        .collect();
     let hits = modes.iter().filter(|m| **m == Some(mode as u64)).count();
     let share = if modes.is_empty() {
         f64::NAN
@@ -194,11 +245,7 @@ fn shear_band_mode_check(
         hits as f64 / modes.len() as f64
     };
     let name = format!("shear_band_mode_{mode}_share");
-    let check = match (at_least, at_most) {
-        (Some(b), _) => Check::at_least(&name, share, b),
-        (_, b) => Check::at_most(&name, share, b.unwrap_or(f64::NAN)),
-    };
-    check.with_note(&format!(
+    bounded(&name, share, (at_least, at_most)).with_note(&format!(
         "{hits} of the {} times analysed in [{:.1}, {:.1}] µs have the shear rate's leading \
          azimuthal mode (k ≥ 2) at the band's inner perimeter equal to {mode} \
          (xue-2019 §5.5: six groups of spiral shear bands in an ordered ring's hexagonal \

@@ -319,6 +319,22 @@ pub enum CheckSpec {
         #[serde(default)]
         at_most: Option<f64>,
     },
+    /// The median over the times analysed in [`from`, `to`] (with a band) of the number
+    /// of groups of spiral shear bands at the compact band's inner perimeter (xue-2019
+    /// §§5.4–5.5, Fig. 11: six in an ordered packing, tens in an amorphous one).
+    /// Exactly one of `at_least` and `at_most`. Needs `[analysis.dispersal]`.
+    ShearBandCount {
+        /// Start of the window (s).
+        from: f64,
+        /// End of the window (s).
+        to: f64,
+        /// Least median.
+        #[serde(default)]
+        at_least: Option<f64>,
+        /// Largest median.
+        #[serde(default)]
+        at_most: Option<f64>,
+    },
 }
 
 fn two_percent() -> f64 {
@@ -332,7 +348,8 @@ fn fifteen_percent() -> f64 {
 }
 
 impl CheckSpec {
-    /// The relative tolerance; for `shear_band_mode`, its bound on the share.
+    /// The relative tolerance; for `shear_band_mode` its bound on the share, for
+    /// `shear_band_count` its bound on the median.
     pub fn tolerance(&self) -> f64 {
         match self {
             CheckSpec::DetonationArrival { tolerance }
@@ -341,6 +358,9 @@ impl CheckSpec {
             | CheckSpec::BandVelocity { tolerance, .. }
             | CheckSpec::FillToBurster { tolerance, .. } => *tolerance,
             CheckSpec::ShearBandMode {
+                at_least, at_most, ..
+            }
+            | CheckSpec::ShearBandCount {
                 at_least, at_most, ..
             } => at_least.or(*at_most).unwrap_or(f64::NAN),
         }
