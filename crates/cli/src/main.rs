@@ -340,8 +340,13 @@ fn cmd_pack(
         v.d0,
         out.display()
     );
-    let done = grains_sim::pack::pack(&s, &text, &v, &out, &mut |line| eprintln!("  {line}"))
+    let mut watch = PackWatch {
+        bar: progress::Bar::new(),
+        what: format!("packing {}", s.name),
+    };
+    let done = grains_sim::pack::pack(&s, &text, &v, &out, &mut watch)
         .map_err(|e| input(format!("{e:#}")))?;
+    grains_sim::driver::Progress::finish(&mut watch.bar);
     print!("{}", grains_sim::analyze::main_figures(&done.summary));
     let failed = done.checks.iter().filter(|c| !c.pass).count();
     for c in &done.checks {
@@ -364,6 +369,23 @@ fn cmd_pack(
     }
     eprintln!("grains: done; outputs in {}", out.display());
     Ok(ExitCode::SUCCESS)
+}
+
+/// `grains pack`'s display: the protocol's stage lines above a progress bar.
+struct PackWatch {
+    bar: progress::Bar,
+    what: String,
+}
+
+impl grains_sim::pack::Watch for PackWatch {
+    fn line(&mut self, line: String) {
+        self.bar.println(&format!("  {line}"));
+    }
+
+    fn progress(&mut self, done: f64) {
+        use grains_sim::driver::Progress;
+        self.bar.stage(&self.what, done);
+    }
 }
 
 fn cmd_analyze(

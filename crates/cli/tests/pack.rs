@@ -122,7 +122,9 @@ fn small_packing_writes_everything_and_is_thread_independent() {
     let anneal = SPEC.replace("rate = 2e-3", "rate = 2e-3\nanneal_sweeps = 40");
     let e = packed_on_one_and_two_threads(tempfile::tempdir().unwrap().path(), &anneal, "annealed");
     assert!(e != a, "the anneal makes no difference");
-    assert!(a.starts_with("# grains pack: tiny"));
+    assert!(a.starts_with("# content_key = "));
+    assert!(a.lines().nth(1).unwrap().starts_with("# grains pack: tiny"));
+    assert!(a.contains("# spec_key = "));
     assert!(a.contains("# domain = rectangle"));
     for f in [
         "summary.json",

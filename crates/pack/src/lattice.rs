@@ -5,9 +5,65 @@
 //! Whether the order survives is then up to the size distribution and the growth:
 //! a narrow distribution keeps it, a broad one cannot hold a crystal and disorders.
 
+use crate::sizes::Distribution;
 use glam::DVec2;
+use grains_analysis::fraction::bulk_fraction;
 use grains_analysis::grid::CellGrid;
 use grains_analysis::region::Region;
+use grains_analysis::INTERIOR_MARGIN_D0;
+use grains_core::rng;
+use rand::RngExt;
+
+/// Packing fraction of the lattice start at the drawn sizes: sets how many disks the
+/// region holds. Growth from the lattice jams near it, so a packing grown to jamming
+/// ends with a realised d0 within about 1 % of the nominal one.
+pub const LATTICE_FILL: f64 = 0.89;
+
+/// The lattice start before any relaxation, in units of the nominal d0: the lining,
+/// then one bulk disk on every site with its drawn radius (scale 1, where the bulk
+/// disks fill [`LATTICE_FILL`] of the plane; large neighbours may overlap).
+#[derive(Clone, Debug)]
+pub struct Template {
+    /// Centres: the lining's, then the sites'.
+    pub pos: Vec<DVec2>,
+    /// Radii at the drawn sizes.
+    pub radius: Vec<f64>,
+    /// Leading lining disks.
+    pub fixed: usize,
+    /// Bulk packing fraction of the bulk disks at the drawn sizes.
+    pub fraction: f64,
+}
+
+/// The lattice start of `region` (d0 units) lined by `lining`, sizes drawn from
+/// `sizes` (SI, divided by `d0`) with `size_rng`, lattice placed by the seed's stream.
+pub fn template(
+    region: &Region,
+    lining: &[(DVec2, f64)],
+    sizes: &Distribution,
+    d0: f64,
+    seed: u64,
+    size_rng: &mut rng::Rng,
+) -> Template {
+    let mut place = rng::stream(seed, 2);
+    let shift = DVec2::new(place.random::<f64>(), place.random::<f64>());
+    let msq = sizes.mean_square() / (d0 * d0);
+    // Spacing at which the drawn sizes fill LATTICE_FILL of the plane.
+    let a = (std::f64::consts::FRAC_PI_4 * msq / (LATTICE_FILL * 0.75f64.sqrt())).sqrt();
+    let r_lining = lining.iter().map(|l| l.1).fold(0.0, f64::max);
+    let sites = sites(region, a, 2.0 * r_lining + 0.5 * a, shift);
+    let fixed = lining.len();
+    let mut pos: Vec<DVec2> = lining.iter().map(|l| l.0).collect();
+    let mut radius: Vec<f64> = lining.iter().map(|l| l.1).collect();
+    pos.extend_from_slice(&sites);
+    radius.extend(sites.iter().map(|_| 0.5 * sizes.sample(size_rng) / d0));
+    let fraction = bulk_fraction(&pos[fixed..], &radius[fixed..], region, INTERIOR_MARGIN_D0);
+    Template {
+        pos,
+        radius,
+        fixed,
+        fraction,
+    }
+}
 
 /// Triangular-lattice sites of nearest-neighbour spacing `a` inside `region`, each at
 /// least `clear` from every wall, in row order. `shift` (fractions of a spacing, in

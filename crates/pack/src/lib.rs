@@ -24,6 +24,7 @@ pub mod lattice;
 pub mod lining;
 pub mod mc;
 pub mod output;
+pub mod preview;
 pub mod protocol;
 pub mod relax;
 pub mod ring;
@@ -31,6 +32,6 @@ pub mod sizes;
 pub mod spec;
 pub mod validate;
 
-pub use protocol::{pack, Packing, ProtocolStats};
+pub use protocol::{pack, Packing, ProtocolStats, Watch};
 pub use spec::{parse, PackSpec};
 pub use validate::{validate, Validated};

@@ -65,6 +65,8 @@ pub struct HardDisks {
     pub step: f64,
     /// Sweeps done.
     pub sweeps: u64,
+    /// Whether disks try size exchanges (swap Monte Carlo).
+    pub swaps: bool,
     seed: u64,
     r_max: f64,
 }
@@ -123,6 +125,7 @@ impl HardDisks {
             fixed,
             step: 0.1,
             sweeps: 0,
+            swaps: true,
             seed,
         }
     }
@@ -199,6 +202,7 @@ impl HardDisks {
             reach: 2.0 * r_max * target.max(1.0) + self.step + 1e-9,
             rate,
             target,
+            swaps: self.swaps,
             seed: self.seed,
             sweep: self.sweeps,
         };
@@ -299,6 +303,7 @@ struct Ctx<'a> {
     reach: f64,
     rate: f64,
     target: f64,
+    swaps: bool,
     seed: u64,
     sweep: u64,
 }
@@ -406,7 +411,7 @@ impl Ctx<'_> {
             }
             // Size exchange with another mobile disk of the cell: only the disk that
             // becomes larger can collide, so only it is tested.
-            if own.len() > 1 {
+            if self.swaps && own.len() > 1 {
                 let m = (k + 1 + rng.random_range(0..own.len() - 1)) % own.len();
                 if own[m].mobile && own[m].base != own[k].base {
                     t.swaps_tried += 1;

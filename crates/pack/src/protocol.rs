@@ -4,11 +4,11 @@
 //! to close the last gaps.
 
 use crate::deposit::deposit;
-use crate::lattice::{clearance_factor, sites};
+use crate::lattice::{clearance_factor, template};
 use crate::lining::lining;
 use crate::mc::HardDisks;
 use crate::relax::Soft;
-use crate::spec::{PackSpec, StartSpec};
+use crate::spec::{FinishSpec, PackSpec, ProtocolSpec, StartSpec};
 use crate::validate::Validated;
 use glam::DVec2;
 use grains_analysis::fraction::bulk_fraction;
@@ -36,9 +36,6 @@ const FTOL_CYCLE: f64 = 1e-5;
 const FTOL_FINAL: f64 = 1e-7;
 /// Force tolerance of the overlap removal on the lattice start (d0 units).
 const FTOL_START: f64 = 1e-7;
-/// Packing fraction of the lattice start at the drawn sizes: sets how many disks the
-/// region holds. Growth jams near it, so the realised d0 ends near the nominal one.
-const LATTICE_FILL: f64 = 0.89;
 const ITER_CYCLE: u64 = 2000;
 const ITER_FINAL: u64 = 20_000;
 /// Energy per disk above which a swell cycle counts as jammed (overlaps ≳ 10⁻⁴ d0).
@@ -92,8 +89,45 @@ pub struct ProtocolStats {
     pub seconds_swell: f64,
 }
 
-/// Runs the protocol. `say` receives one line per stage.
-pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Packing {
+/// What a packing reports as it goes: a line per stage, and how far it has got.
+pub trait Watch {
+    /// A line about a stage.
+    fn line(&mut self, line: String);
+    /// The share of the work done, 0 to 1 (an estimate while the growth runs).
+    fn progress(&mut self, _done: f64) {}
+}
+
+impl<F: FnMut(String) + ?Sized> Watch for F {
+    fn line(&mut self, line: String) {
+        self(line)
+    }
+}
+
+/// Share of the progress the start and the final swell take.
+const PROGRESS_START: f64 = 0.02;
+const PROGRESS_SWELL: f64 = 0.05;
+
+/// The radius scale, relative to the drawn sizes, at which the growth ends with
+/// `finish = "target"`: the bulk disks then fill `target_fraction` of the region inside
+/// the lining, given that at their drawn sizes they would fill `spread` of it ([`spread`]).
+/// `None` when the growth goes on to jamming.
+pub fn end_scale(p: &ProtocolSpec, spread: f64) -> Option<f64> {
+    (p.finish == FinishSpec::Target).then(|| (p.target_fraction / spread.max(1e-9)).sqrt())
+}
+
+/// The fraction of the region inside the lining (the region shrunk by the lining
+/// disks' largest diameter) that disks of radii `radius` would fill: where a bulk
+/// fraction ends once the disks have spread into every gap the start left, e.g.
+/// between the lattice and the curved walls (`radius` in the region's units).
+pub fn spread(region: &Region, radius: &[f64], lining_radius: f64) -> f64 {
+    let area: f64 = radius.iter().map(|r| std::f64::consts::PI * r * r).sum();
+    region
+        .shrink(2.0 * lining_radius)
+        .map_or(f64::NAN, |inner| area / inner.area())
+}
+
+/// Runs the protocol, reporting to `watch`.
+pub fn pack(spec: &PackSpec, v: &Validated, watch: &mut dyn Watch) -> Packing {
     let d0 = v.d0;
     let p = &spec.protocol;
     // Work in units of d0 so tolerances are scale-free.
@@ -111,7 +145,7 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
     let mut size_rng = rng::stream(spec.seed, 0);
     let mean_area = std::f64::consts::FRAC_PI_4 * v.sizes.mean_square() / (d0 * d0);
     let draw = (region.area() * 0.92 / mean_area * DRAW_MARGIN).ceil() as usize;
-    say(format!("lining: {fixed} disks"));
+    watch.line(format!("lining: {fixed} disks"));
 
     // 2. The start: overlap-free bulk disks at `start_fraction`.
     let t0 = Instant::now();
@@ -123,7 +157,7 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
             let dep = deposit(&region, &lining_disks, &drawn);
             stats.deposited = dep.pos.len();
             stats.fraction_after_deposit = bulk_fraction(&dep.pos, &dep.radius, &region, margin);
-            say(format!(
+            watch.line(format!(
                 "deposition: {} disks in {:.1} s, bulk fraction {:.4}",
                 stats.deposited,
                 t0.elapsed().as_secs_f64(),
@@ -144,24 +178,18 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
             (pos, base, s)
         }
         StartSpec::Lattice => {
-            let mut place = rng::stream(spec.seed, 2);
-            let shift = DVec2::new(place.random::<f64>(), place.random::<f64>());
-            let msq = v.sizes.mean_square() / (d0 * d0);
-            // Spacing at which the drawn sizes fill LATTICE_FILL of the plane.
-            let a = (std::f64::consts::FRAC_PI_4 * msq / (LATTICE_FILL * 0.75f64.sqrt())).sqrt();
-            let r_lining = lining_disks.iter().map(|l| l.1).fold(0.0, f64::max);
-            let sites = sites(&region, a, 2.0 * r_lining + 0.5 * a, shift);
-            let mut pos: Vec<DVec2> = lining_disks.iter().map(|l| l.0).collect();
-            let mut base: Vec<f64> = lining_disks.iter().map(|l| l.1).collect();
-            pos.extend_from_slice(&sites);
-            base.extend(
-                sites
-                    .iter()
-                    .map(|_| 0.5 * v.sizes.sample(&mut size_rng) / d0),
+            let t = template(
+                &region,
+                &lining_disks,
+                &v.sizes,
+                d0,
+                spec.seed,
+                &mut size_rng,
             );
-            stats.deposited = sites.len();
-            stats.fraction_after_deposit =
-                bulk_fraction(&pos[fixed..], &base[fixed..], &region, margin);
+            let (pos, base) = (t.pos, t.radius);
+            let sites = pos.len() - fixed;
+            stats.deposited = sites;
+            stats.fraction_after_deposit = t.fraction;
             // Shrink to the start fraction, then push apart the few large neighbours
             // that still overlap: the lattice stays, slightly distorted.
             let s = (p.start_fraction / stats.fraction_after_deposit.max(1e-9))
@@ -175,11 +203,10 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
             let mut soft = Soft::new(pos, rad, fixed);
             let r = soft.minimise(&region, FTOL_START, ITER_FINAL);
             let f = clearance_factor(&region, &soft.pos, &soft.rad, fixed).min(1.0);
-            say(format!(
-                "lattice: {} disks, spacing {:.4} d0, bulk fraction {:.4} at full size; \
+            watch.line(format!(
+                "lattice: {} disks, bulk fraction {:.4} at full size; \
                  {} FIRE iterations to clear overlaps at {:.4}, in {:.1} s",
-                sites.len(),
-                a,
+                sites,
                 stats.fraction_after_deposit,
                 r.iterations,
                 p.start_fraction,
@@ -190,27 +217,53 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
     };
     stats.seconds_deposit = t0.elapsed().as_secs_f64();
 
-    // 3. Monte Carlo growth from `start_fraction` until jammed.
+    watch.progress(PROGRESS_START);
+
+    // 3. Monte Carlo growth from `start_fraction` until jammed (or at the target).
     let t1 = Instant::now();
     let mut scale = vec![1.0; fixed];
     scale.extend(std::iter::repeat_n(s_start, base.len() - fixed));
+    let r_lining = base[..fixed].iter().copied().fold(0.0, f64::max);
+    let target_scale = end_scale(p, spread(&region, &base[fixed..], r_lining));
     let mut hd = HardDisks::new(pos, base, scale, fixed, spec.seed);
-    let cap = 1.0 + p.max_swell;
+    hd.swaps = p.swaps;
+    let cap = target_scale.map_or(1.0 + p.max_swell, |s| s.min(1.0 + p.max_swell));
+    // The sweeps the growth will take, for the progress estimate: to the target, or
+    // to about where a lattice start jams.
+    let growth_sweeps = ((target_scale.unwrap_or(crate::preview::JAMMED_SCALE) / s_start)
+        .ln()
+        .max(0.0)
+        / p.rate.ln_1p())
+    .max(1.0);
+    let all_sweeps =
+        (p.anneal_sweeps as f64 + growth_sweeps).min((p.anneal_sweeps + p.max_sweeps) as f64);
     let mut swap_sum = 0.0;
     let mut last_line = Instant::now();
     // The first `anneal_sweeps` sweeps hold the start fraction (no growth).
     let mut last = s_start;
+    let mut last_min = s_start;
     let grown_from = p.anneal_sweeps;
     while hd.sweeps < p.anneal_sweeps + p.max_sweeps {
         let annealing = hd.sweeps < p.anneal_sweeps;
         let st = hd.sweep(&region, if annealing { 0.0 } else { p.rate }, cap);
         swap_sum += st.swap_acceptance;
+        let done = if annealing {
+            hd.sweeps as f64
+        } else {
+            p.anneal_sweeps as f64
+                + growth_sweeps
+                    * ((st.mean_scale / s_start).ln() / (growth_sweeps * p.rate.ln_1p()))
+                        .clamp(0.0, 1.0)
+        };
+        watch.progress(
+            PROGRESS_START + (1.0 - PROGRESS_START - PROGRESS_SWELL) * (done / all_sweeps).min(1.0),
+        );
         if hd.sweeps.is_multiple_of(PROGRESS_EVERY)
             || last_line.elapsed().as_secs_f64() > PROGRESS_SECONDS
         {
             last_line = Instant::now();
             let (order, phi) = interior_order(&hd, &region, margin);
-            say(format!(
+            watch.line(format!(
                 "{}: sweep {} after {:.1} s, mean scale {:.5}, bulk fraction {:.4}, \
                  acceptance {:.2}, swaps {:.2}, interior psi6 local {:.3} global {:.3}",
                 if annealing { "anneal" } else { "growth" },
@@ -231,11 +284,15 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
             break;
         }
         if (hd.sweeps - grown_from).is_multiple_of(STALL_WINDOW) {
-            let nominal = last * ((1.0 + p.rate).powi(STALL_WINDOW as i32) - 1.0);
-            if st.mean_scale - last < STALL_FRACTION * nominal {
+            let nominal = (last * (1.0 + p.rate).powi(STALL_WINDOW as i32)).min(cap) - last;
+            // Growing to a target, the last few disks held back by their neighbours
+            // may still be catching up while the mean has arrived: that is no jam.
+            let catching_up = target_scale.is_some() && st.min_scale > last_min;
+            if st.mean_scale - last < STALL_FRACTION * nominal && !catching_up {
                 break;
             }
             last = st.mean_scale;
+            last_min = st.min_scale;
         }
     }
     stats.sweeps = hd.sweeps;
@@ -244,19 +301,21 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
     let (hd_pos, hd_base, hd_scale) = hd.state();
     let radii: Vec<f64> = hd_base.iter().zip(&hd_scale).map(|(b, s)| b * s).collect();
     stats.fraction_after_growth = bulk_fraction(&hd_pos, &radii, &region, margin);
-    say(format!(
+    watch.line(format!(
         "growth: {} Monte Carlo sweeps in {:.1} s at rate {:e}, bulk fraction {:.4}",
         hd.sweeps, stats.seconds_growth, p.rate, stats.fraction_after_growth
     ));
 
-    // 4. Swell and minimise: close the gaps hard-disk growth leaves at jamming.
+    // 4. Swell and minimise: close the gaps hard-disk growth leaves at jamming. A
+    // growth that reached its target leaves the disks as they are.
     let t2 = Instant::now();
+    let reached = target_scale.is_some() && hd_scale[fixed..].iter().all(|s| *s >= cap - 1e-12);
     let current: Vec<f64> = radii[fixed..].to_vec();
     let mut soft = Soft::new(hd_pos, radii, fixed);
     let mut s = 1.0;
     let mut r = soft.minimise(&region, FTOL_CYCLE, ITER_CYCLE);
     stats.iterations += r.iterations;
-    while stats.swell_cycles < 200 {
+    while !reached && stats.swell_cycles < 200 {
         let s_next = s * (1.0 + p.swell_step);
         set_scale(&mut soft, &current, s_next);
         r = soft.minimise(&region, FTOL_CYCLE, ITER_CYCLE);
@@ -270,13 +329,14 @@ pub fn pack(spec: &PackSpec, v: &Validated, say: &mut dyn FnMut(String)) -> Pack
     }
     r = soft.minimise(&region, FTOL_FINAL, ITER_FINAL);
     stats.iterations += r.iterations;
+    watch.progress(1.0);
     let sizes: Vec<f64> = soft.rad[fixed..].to_vec();
     let drawn_total: f64 = hd_base[fixed..].iter().sum();
     stats.final_scale = sizes.iter().sum::<f64>() / drawn_total.max(1e-300);
     stats.max_overlap = r.max_overlap;
     stats.fraction_bulk = bulk_fraction(&soft.pos, &soft.rad, &region, margin);
     stats.seconds_swell = t2.elapsed().as_secs_f64();
-    say(format!(
+    watch.line(format!(
         "swell: {} cycles, {} FIRE iterations in {:.1} s; bulk fraction {:.4}, largest overlap {:.1e} d0",
         stats.swell_cycles, stats.iterations, stats.seconds_swell, stats.fraction_bulk, stats.max_overlap
     ));

@@ -155,6 +155,19 @@ pub enum StartSpec {
     Deposit,
 }
 
+/// `protocol.finish`: where the growth ends.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FinishSpec {
+    /// Grow until jammed, then swell and minimise until the disks press on each other.
+    #[default]
+    Jammed,
+    /// Grow until the disks have the size at which the start's bulk disks fill
+    /// `target_fraction` (or until jammed, if that comes first): the sizes, and so the
+    /// ring's mass, are known from the spec.
+    Target,
+}
+
 /// `[protocol]`: the start (lattice or deposition), Lubachevsky–Stillinger-like Monte Carlo growth, then
 /// swell-and-minimise.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -163,9 +176,17 @@ pub struct ProtocolSpec {
     /// How the bulk disks are placed before the Monte Carlo growth.
     #[serde(default)]
     pub start: StartSpec,
-    /// Bulk packing fraction the packing must reach (a check; growth goes on to jamming).
+    /// Bulk packing fraction the packing must reach (a check), and with
+    /// `finish = "target"` where the growth ends.
     #[serde(default = "default_target")]
     pub target_fraction: f64,
+    /// Where the growth ends: at jamming (default) or at `target_fraction`.
+    #[serde(default)]
+    pub finish: FinishSpec,
+    /// Whether the Monte Carlo tries size exchanges between neighbours (swap Monte
+    /// Carlo, default): they let the sizes arrange themselves, which packs denser.
+    #[serde(default = "default_swaps")]
+    pub swaps: bool,
     /// Growth rate: relative radius increase per Monte Carlo sweep, i.e. how long the
     /// disks may rearrange before they jam (see docs/packing.md for what it steers).
     #[serde(default = "default_rate")]
@@ -192,6 +213,9 @@ pub struct ProtocolSpec {
     pub deposit_scale: f64,
 }
 
+fn default_swaps() -> bool {
+    true
+}
 fn default_target() -> f64 {
     0.83
 }
@@ -219,6 +243,8 @@ impl Default for ProtocolSpec {
         ProtocolSpec {
             start: StartSpec::default(),
             target_fraction: default_target(),
+            finish: FinishSpec::default(),
+            swaps: default_swaps(),
             rate: default_rate(),
             start_fraction: default_start(),
             anneal_sweeps: 0,
@@ -233,4 +259,37 @@ impl Default for ProtocolSpec {
 /// Parses a spec, with the TOML error's line and column on failure.
 pub fn parse(text: &str, origin: &str) -> Result<PackSpec, String> {
     grains_core::input::parse_toml(text, origin)
+}
+
+/// Version of the packing protocol: part of every spec's key, so that packings cached
+/// by an older protocol are rebuilt. Raise it whenever a spec's packing changes.
+pub const PROTOCOL_VERSION: u32 = 2;
+
+/// What makes a packing: everything in a spec but its name, description and checks.
+#[derive(Serialize)]
+struct Recipe<'a> {
+    protocol_version: u32,
+    seed: u64,
+    domain: &'a DomainSpec,
+    sizes: &'a SizeSpec,
+    lining: &'a LiningSpec,
+    protocol: &'a ProtocolSpec,
+}
+
+impl PackSpec {
+    /// The key of the packing this spec makes: a hash of every value that shapes it
+    /// (not the name, description or checks) and of [`PROTOCOL_VERSION`]. Two specs
+    /// with the same key make the same file.
+    pub fn key(&self) -> u64 {
+        let recipe = Recipe {
+            protocol_version: PROTOCOL_VERSION,
+            seed: self.seed,
+            domain: &self.domain,
+            sizes: &self.sizes,
+            lining: &self.lining,
+            protocol: &self.protocol,
+        };
+        let text = toml::to_string(&recipe).unwrap_or_default();
+        grains_core::hash::fnv1a(text.as_bytes())
+    }
 }

@@ -99,6 +99,16 @@ pub fn validate(spec: &PackSpec) -> Result<Validated, InputError> {
             "must be in [0.3, 0.8]",
         ));
     }
+    if p.finish == crate::spec::FinishSpec::Target && p.start_fraction >= p.target_fraction {
+        return Err(err(
+            "protocol.start_fraction",
+            p.start_fraction,
+            format!(
+                "must be below protocol.target_fraction = {} when protocol.finish = \"target\" (the growth ends there)",
+                p.target_fraction
+            ),
+        ));
+    }
     if p.anneal_sweeps > 10_000_000 {
         return Err(err(
             "protocol.anneal_sweeps",

@@ -205,6 +205,8 @@ pub trait Progress: Send {
     fn announce(&mut self, _line: &str) {}
     /// How far the run has got (0 to 1) and where it stands.
     fn update(&mut self, done: f64, clock: Clock);
+    /// How far a stage before the run (making its packing) has got, 0 to 1.
+    fn stage(&mut self, _what: &str, _done: f64) {}
     /// The run is over.
     fn finish(&mut self) {}
 }

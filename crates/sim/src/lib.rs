@@ -29,6 +29,7 @@ pub mod history;
 pub mod mpm;
 pub mod output;
 pub mod pack;
+pub mod packings;
 pub mod run;
 pub mod scenario;
 pub mod source;

@@ -10,6 +10,8 @@ use serde_json::{json, Map, Value};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+pub use grains_pack::Watch;
+
 /// A packing made and analysed.
 #[derive(Clone, Debug)]
 pub struct Packed {
@@ -46,16 +48,16 @@ pub fn prepare(path: &Path) -> Result<(PackSpec, String, grains_pack::Validated)
 }
 
 /// Makes the packing of `spec` (its `text`, validated as `v`) into `out`, reporting
-/// progress lines through `log`.
+/// progress through `watch`.
 pub fn pack(
     spec: &PackSpec,
     text: &str,
     v: &grains_pack::Validated,
     out: &Path,
-    log: &mut dyn FnMut(String),
+    watch: &mut dyn grains_pack::Watch,
 ) -> anyhow::Result<Packed> {
     let threads = rayon::current_num_threads();
-    let (checks, summary) = run(spec, text, v, out, threads, log)?;
+    let (checks, summary) = run(spec, text, v, out, threads, watch)?;
     Ok(Packed {
         checks,
         summary,
@@ -69,11 +71,11 @@ fn run(
     v: &grains_pack::Validated,
     out: &Path,
     threads: usize,
-    log: &mut dyn FnMut(String),
+    watch: &mut dyn grains_pack::Watch,
 ) -> anyhow::Result<(Vec<Check>, Map<String, Value>)> {
     use anyhow::Context;
     let started = Instant::now();
-    let packing = grains_pack::pack(spec, v, log);
+    let packing = grains_pack::pack(spec, v, watch);
     let seconds_pack = started.elapsed().as_secs_f64();
     std::fs::create_dir_all(out)
         .with_context(|| format!("cannot create output directory {}", out.display()))?;

@@ -4,6 +4,7 @@
 
 use super::scenario::{CheckSpec, PackingSpec, Scenario};
 use crate::dem::scenario as dem_scn;
+use crate::packings::{Cached, OnDemand};
 use glam::DVec2;
 use grains_core::input::{shown, InputError};
 use grains_dem::{Particles, Setup};
@@ -95,8 +96,41 @@ pub fn explosive(s: &Scenario) -> Result<Explosive, String> {
     }
 }
 
+/// What assembly does with a ring whose packing (`source = "spec"`) is not made yet.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Unmade {
+    /// Refuse: a run makes the packing first ([`crate::packings::OnDemand::ensure`]).
+    Refuse,
+    /// Stand in the disks the spec will make ([`grains_pack::preview`]): `grains check`.
+    Preview,
+}
+
 /// Validates and assembles. `base` is the directory relative paths are read from.
 pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, String> {
+    assemble_with(s, base, Unmade::Refuse)
+}
+
+/// The packing spec a ring names (`source = "spec"`), read, validated and checked
+/// against the ring's annulus; `None` for other sources.
+pub fn on_demand(s: &Scenario, base: &Path) -> Result<Option<OnDemand>, String> {
+    let Some(r) = &s.ring else {
+        return Ok(None);
+    };
+    let PackingSpec::Spec { spec } = &r.packing else {
+        return Ok(None);
+    };
+    let od = OnDemand::open(&base.join(spec), "ring.packing.spec")?;
+    od.fits_ring(
+        "ring.packing.spec",
+        r.inner_radius,
+        r.outer_radius,
+        s.charge.centre,
+    )?;
+    Ok(Some(od))
+}
+
+/// [`assemble`], with a choice of what to do with a packing not made yet.
+pub fn assemble_with(s: &Scenario, base: &Path, unmade: Unmade) -> Result<Assembled, String> {
     if s.engine != "fem_dem" {
         return Err(err(
             "engine",
@@ -187,7 +221,7 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, String> {
     }
 
     let ring = match &s.ring {
-        Some(_) => Some(ring_part(s, base, &fem, &mesh)?),
+        Some(_) => Some(ring_part(s, base, &fem, &mesh, unmade)?),
         None => None,
     };
     for (k, chk) in s.checks.iter().enumerate() {
@@ -272,7 +306,13 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, String> {
     })
 }
 
-fn ring_part(s: &Scenario, base: &Path, fem: &FemSetup, mesh: &Mesh) -> Result<RingPart, String> {
+fn ring_part(
+    s: &Scenario,
+    base: &Path,
+    fem: &FemSetup,
+    mesh: &Mesh,
+    unmade: Unmade,
+) -> Result<RingPart, String> {
     let r = s.ring.as_ref().expect("ring present");
     let centre = DVec2::from(s.charge.centre);
     positive("ring.inner_radius", r.inner_radius)?;
@@ -310,6 +350,34 @@ fn ring_part(s: &Scenario, base: &Path, fem: &FemSetup, mesh: &Mesh) -> Result<R
             dem_scn::ParticleSource::File {
                 material: r.material.clone(),
                 path: path.clone(),
+            }
+        }
+        PackingSpec::Spec { spec } => {
+            let od = on_demand(s, base)?.expect("a spec source");
+            match (od.state(), unmade) {
+                (Cached::Ready, _) => dem_scn::ParticleSource::File {
+                    material: r.material.clone(),
+                    path: od.file().display().to_string(),
+                },
+                (_, Unmade::Preview) => {
+                    let Some(pv) = od.preview() else {
+                        return Err(err(
+                            "ring.packing.spec",
+                            format!("\"{spec}\""),
+                            "a packing with protocol.start = \"lattice\" (a deposited packing is only sized once made: run `grains pack` on it and name the file with source = \"file\")",
+                        ));
+                    };
+                    disk_list(&r.material, &pv.pos, &pv.radius)
+                }
+                (state, Unmade::Refuse) => {
+                    return Err(format!(
+                        "ring.packing.spec = \"{spec}\": the packing is not made ({}); `grains run` makes it",
+                        match state {
+                            Cached::Untrusted(u) => u.to_string(),
+                            _ => "no file".to_string(),
+                        }
+                    ))
+                }
             }
         }
         PackingSpec::Lattice {
@@ -357,20 +425,7 @@ fn ring_part(s: &Scenario, base: &Path, fem: &FemSetup, mesh: &Mesh) -> Result<R
                     "more than 20 million disks",
                 ));
             }
-            dem_scn::ParticleSource::List {
-                material: r.material.clone(),
-                disks: disks
-                    .pos
-                    .iter()
-                    .zip(&disks.radius)
-                    .map(|(p, &radius)| dem_scn::DiskSpec {
-                        at: p.to_array(),
-                        radius,
-                        velocity: [0.0; 2],
-                        omega: 0.0,
-                    })
-                    .collect(),
-            }
+            disk_list(&r.material, &disks.pos, &disks.radius)
         }
     };
     if let Some(sk) = s.run.skin {
@@ -452,6 +507,23 @@ fn ring_part(s: &Scenario, base: &Path, fem: &FemSetup, mesh: &Mesh) -> Result<R
     })
 }
 
+/// Disks at rest as a DEM particle source.
+fn disk_list(material: &str, pos: &[DVec2], radius: &[f64]) -> dem_scn::ParticleSource {
+    dem_scn::ParticleSource::List {
+        material: material.to_string(),
+        disks: pos
+            .iter()
+            .zip(radius)
+            .map(|(p, &radius)| dem_scn::DiskSpec {
+                at: p.to_array(),
+                radius,
+                velocity: [0.0; 2],
+                omega: 0.0,
+            })
+            .collect(),
+    }
+}
+
 /// Smallest lumped mass of a boundary node.
 fn boundary_node_mass(fem: &FemSetup, mesh: &Mesh) -> f64 {
     let mut m = vec![0.0; mesh.nodes.len()];
@@ -474,6 +546,7 @@ fn fits_the_ring(s: &Scenario, p: &Particles, centre: DVec2) -> Result<(), Strin
     let r = s.ring.as_ref().expect("ring present");
     let what = match &r.packing {
         PackingSpec::File { path } => format!("ring.packing.path = \"{path}\""),
+        PackingSpec::Spec { spec } => format!("ring.packing.spec = \"{spec}\""),
         PackingSpec::Lattice { .. } => "ring.packing".to_string(),
     };
     for i in 0..p.len() {

@@ -3,11 +3,12 @@
 //! anything is built; then the scenario is assembled and its mass ratio and steps
 //! derived.
 
-use super::assemble::{assemble, Assembled};
+use super::assemble::{assemble_with, on_demand, Assembled, Unmade};
 use super::probes::{fill_to_burster_check, gurney_velocity};
 use super::scenario::{CheckSpec, PackingSpec, Scenario};
 use crate::check::{Derived, Line};
 use crate::estimate::{self, rate, Estimate};
+use crate::packings::Cached;
 use crate::source::Source;
 use std::f64::consts::PI;
 
@@ -31,6 +32,15 @@ pub fn size(s: &Scenario, src: &Source) -> (u64, u64) {
             PackingSpec::File { path } => {
                 estimate::packing_lines(&src.base.join(path)).unwrap_or(0) as f64
             }
+            // The spec's own estimate (its region at its target fraction); a spec that
+            // cannot be read is reported by the assembly that follows.
+            PackingSpec::Spec { spec } => grains_pack::parse(
+                &std::fs::read_to_string(src.base.join(spec)).unwrap_or_default(),
+                spec,
+            )
+            .ok()
+            .and_then(|p| grains_pack::validate(&p).ok())
+            .map_or(0.0, |v| v.estimated_particles),
             // A triangular lattice fills 0.9069 of the ring at pitch d0(1 + spread).
             PackingSpec::Lattice { d0, spread, .. } => {
                 let pitch = d0 * (1.0 + spread);
@@ -75,7 +85,9 @@ pub fn dt_initial(s: &Scenario, a: &Assembled) -> f64 {
 /// What `grains check` prints for a FEM–DEM scenario.
 pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, String> {
     fits(s, src, threads)?;
-    let a = assemble(s, &src.base).map_err(|e| format!("{}: {e}", src.origin))?;
+    let od = on_demand(s, &src.base).map_err(|e| format!("{}: {e}", src.origin))?;
+    let a =
+        assemble_with(s, &src.base, Unmade::Preview).map_err(|e| format!("{}: {e}", src.origin))?;
     let x = &a.fem.explosive;
     let mut d = Derived {
         lines: Derived::head(&s.name, "fem_dem", &s.description),
@@ -167,6 +179,26 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
                 Line::quiet("dt_penalty_critical", r.dt_penalty),
                 Line::quiet("skin", r.setup.skin),
             ]);
+            if let Some(od) = &od {
+                let ready = od.state() == Cached::Ready;
+                d.lines.extend([
+                    Line::new(
+                        "packing",
+                        od.file().display().to_string(),
+                        if ready {
+                            format!("{} (cached)", od.file().display())
+                        } else {
+                            format!(
+                                "not made yet: `grains run` makes it first ({} disks sized from the spec) → {}",
+                                r.particles.len(),
+                                od.file().display()
+                            )
+                        },
+                    ),
+                    Line::quiet("packing_cached", ready),
+                    Line::quiet("packing_key", format!("{:016x}", od.key)),
+                ]);
+            }
             r.particles.len() as u64
         }
         None => {

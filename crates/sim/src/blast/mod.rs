@@ -192,8 +192,20 @@ impl Simulation for Blast {
             let pen = r.coupling.max_penetration_ratio;
             self.max_penetration = self.max_penetration.max(pen);
             if pen > RUNAWAY_PENETRATION {
+                let at = r.coupling.deepest.map_or(String::new(), |d| {
+                    let p = &r.state.particles;
+                    let x = p.pos[d.particle];
+                    format!(
+                        " (particle {} at ({:.4e}, {:.4e}) m, on {} of a boundary edge {:.1} times its initial length)",
+                        p.id[d.particle],
+                        x.x,
+                        x.y,
+                        if d.corner { "the corner node" } else { "the span" },
+                        d.stretch
+                    )
+                });
                 return Err(format!(
-                    "a particle penetrated the charge's edge by {pen:.3} of its radius \
+                    "a particle penetrated the charge's edge by {pen:.3} of its radius{at} \
                      (limit {RUNAWAY_PENETRATION}); raise coupling.stiffness_ratio or lower run.coupling_safety"
                 ));
             }

@@ -1,6 +1,6 @@
 //! A FEM–DEM run from its scenario to its summary.
 
-use super::assemble::assemble;
+use super::assemble::{assemble, assemble_with, on_demand, Unmade};
 use super::scenario::Scenario;
 use super::{ledger, models, plots, probes, Blast, BlastSample, CAPABILITIES};
 use crate::dispersal::DispersalObserver;
@@ -8,6 +8,7 @@ use crate::driver::{discount, Counters, Observer, Report, Status};
 use crate::frames::FrameRecorder;
 use crate::frames::{Mapped, Snapshots};
 use crate::history::{HistoryRecorder, Recorded};
+use crate::packings::Cached;
 use crate::run::{drive, finish, fresh_out, summary, Costs, Finished, RunError, RunOptions};
 use crate::source::Source;
 use grains_core::plot::{time_label, Outline, ParticleMap};
@@ -116,6 +117,15 @@ pub const LEDGER_COLUMNS: [&str; 5] = [
 /// Runs `s` (read from `src`) into `opts.out`.
 pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished, RunError> {
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
+    let input = |e: String| RunError::Input(format!("{}: {e}", src.origin));
+    if let Some(od) = on_demand(s, &src.base).map_err(input)? {
+        if od.state() != Cached::Ready {
+            // Every other key is checked before the packing is made, which may take
+            // minutes: with the disks the spec will make standing in.
+            assemble_with(s, &src.base, Unmade::Preview).map_err(input)?;
+        }
+        od.ensure(&mut *opts.progress).map_err(input)?;
+    }
     let a = assemble(s, &src.base).map_err(|e| RunError::Input(format!("{}: {e}", src.origin)))?;
     let charge_mass = a.charge_mass;
     let out = opts.out.clone();

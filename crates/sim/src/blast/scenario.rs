@@ -96,6 +96,12 @@ pub enum PackingSpec {
         /// Path, relative to the scenario file.
         path: String,
     },
+    /// The packing a `grains pack` spec makes, made on the first run and cached under
+    /// the spec's key (see [`crate::packings`]). The spec must pack the ring's annulus.
+    Spec {
+        /// Path of the packing spec, relative to the scenario file.
+        spec: String,
+    },
     /// A quick built-in ring: a triangular lattice of disks with diameters uniform in
     /// d0(1 ± spread), lined inside and outside by a chain of small disks tangent to the
     /// ring's circles, as the paper's packings are.
