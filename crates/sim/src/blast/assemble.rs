@@ -253,6 +253,17 @@ pub fn assemble_with(s: &Scenario, base: &Path, unmade: Unmade) -> Result<Assemb
             )?;
             continue;
         }
+        if let CheckSpec::BandVelocityBracket { paper } = chk {
+            positive(&format!("check[{k}].paper"), *paper)?;
+            if ring.is_none() {
+                return Err(err(
+                    &format!("check[{k}].kind"),
+                    "\"band_velocity_bracket\"",
+                    "needs a [ring]",
+                ));
+            }
+            continue;
+        }
         let tol = chk.tolerance();
         if !(tol.is_finite() && tol > 0.0) {
             return Err(err(
@@ -292,6 +303,7 @@ pub fn assemble_with(s: &Scenario, base: &Path, unmade: Unmade) -> Result<Assemb
                 }
             }
             CheckSpec::DetonationArrival { .. }
+            | CheckSpec::BandVelocityBracket { .. }
             | CheckSpec::ShearBandMode { .. }
             | CheckSpec::ShearBandCount { .. } => {}
         }

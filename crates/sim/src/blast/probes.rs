@@ -31,6 +31,8 @@ pub struct Context<'a> {
     pub ring_mass: Option<f64>,
     /// The dispersal analysis's figures, if it ran.
     pub dispersal: Option<&'a Value>,
+    /// The ring models (`figures.models`), if the run has a ring they describe.
+    pub models: Option<&'a Value>,
 }
 
 /// The classic cylindrical Gurney velocity √(2E)·(M/C + ½)^(−½), with √(2E) from the
@@ -48,6 +50,7 @@ pub fn gurney_constant(fem: &FemSetup) -> f64 {
 pub fn band_reference(scn: &Scenario) -> Option<f64> {
     scn.checks.iter().find_map(|c| match c {
         CheckSpec::BandVelocity { expected, .. } => Some(*expected),
+        CheckSpec::BandVelocityBracket { paper } => Some(*paper),
         _ => None,
     })
 }
@@ -150,6 +153,10 @@ pub fn evaluate(cx: &Context) -> (Vec<Check>, Map<String, Value>, Vec<ArrivalBin
                     gurney_velocity(fem, fb)
                 ))
             }
+            CheckSpec::BandVelocityBracket { paper } => {
+                let v = terminal(cx.history, "band_velocity", window);
+                band_velocity_bracket_check(v, cx.models, paper, gurney_velocity(fem, fb), window)
+            }
             CheckSpec::RingEnergyTransfer { tolerance } => Check::at_most("ring_energy_transfer_error", transfer_err, tolerance).with_note(
                 "|1 − ring kinetic energy / work done by the charge on the ring| at the end (elastic, frictionless grains)",
             ),
@@ -163,6 +170,37 @@ pub fn evaluate(cx: &Context) -> (Vec<Check>, Map<String, Value>, Vec<ArrivalBin
         });
     }
     (checks, fig, arrival)
+}
+
+/// The `band_velocity_bracket` check: the terminal band velocity `v` between the
+/// compaction estimate (the lower of its φ1 values) and the lossless ceiling, written as
+/// an absolute check about the bracket's middle with its half-width as the tolerance.
+fn band_velocity_bracket_check(
+    v: f64,
+    models: Option<&Value>,
+    paper: f64,
+    gurney: f64,
+    window: f64,
+) -> Check {
+    let ceiling = models.and_then(|m| m["lossless_ceiling"]["velocity"].as_f64());
+    let compaction = models
+        .and_then(|m| m["compaction"].as_array())
+        .map(|c| {
+            c.iter()
+                .filter_map(|e| e["shell"]["velocity"].as_f64())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .filter(|v| v.is_finite());
+    let (lo, hi) = (compaction.unwrap_or(f64::NAN), ceiling.unwrap_or(f64::NAN));
+    Check::absolute("band_velocity_bracket", v, 0.5 * (lo + hi), 0.5 * (hi - lo)).with_note(
+        &format!(
+            "mean radial velocity of the compact band over the last {:.0} % of the run, \
+             between the compaction estimate {lo:.0} m/s (φ1 0.88–0.90, the lower) and the \
+             lossless JWL-expansion ceiling {hi:.0} m/s at the run's end (figures.models); \
+             paper {paper:.0} m/s, classic Gurney {gurney:.0} m/s",
+            100.0 * window
+        ),
+    )
 }
 
 /// The mass-ratio check (also run by `grains check`).
@@ -254,4 +292,25 @@ fn shear_band_mode_check(
         from * 1e6,
         to * 1e6
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::band_velocity_bracket_check;
+    use serde_json::json;
+
+    #[test]
+    fn bracket_runs_from_the_lower_compaction_estimate_to_the_ceiling() {
+        let models = json!({
+            "lossless_ceiling": { "velocity": 700.0 },
+            "compaction": [ { "shell": { "velocity": 620.0 } }, { "shell": { "velocity": 600.0 } } ],
+        });
+        let check = |v| band_velocity_bracket_check(v, Some(&models), 1050.0, 900.0, 0.1);
+        let c = check(650.0);
+        assert!(c.pass);
+        assert_eq!((c.expected, c.tolerance), (650.0, 50.0));
+        assert!(check(600.0).pass && check(700.0).pass);
+        assert!(!check(599.0).pass && !check(701.0).pass && !check(f64::NAN).pass);
+        assert!(!band_velocity_bracket_check(650.0, None, 1050.0, 900.0, 0.1).pass);
+    }
 }

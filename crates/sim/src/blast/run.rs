@@ -185,6 +185,11 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
             Counters::fresh(&plan),
         )?
     };
+    let ring_mass: Option<f64> = sim.ring.as_ref().map(|r| {
+        let p = &r.state.particles;
+        (0..p.len()).map(|i| p.mass(i)).sum()
+    });
+    let ring_models = ring_mass.and_then(|mass| models::figures(s, mass, sim.charge.time));
     let ctx = probes::Context {
         scn: s,
         fem: &sim.fem,
@@ -192,11 +197,9 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
         e0: sim.e0,
         history: &history.history,
         charge_mass,
-        ring_mass: sim.ring.as_ref().map(|r| {
-            let p = &r.state.particles;
-            (0..p.len()).map(|i| p.mass(i)).sum()
-        }),
+        ring_mass,
         dispersal: outcome.report.figures.get("dispersal"),
+        models: ring_models.as_ref(),
     };
     let (checks, mut figures, arrival) = probes::evaluate(&ctx);
     figures.insert("max_penetration_ratio".into(), sim.max_penetration.into());
@@ -206,11 +209,9 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
     if let Some(r) = &sim.ring {
         figures.insert("coupling_stiffness".into(), r.coupling.stiffness.into());
         figures.insert("coupling_builds".into(), r.coupling.builds.into());
-        let p = &r.state.particles;
-        let mass: f64 = (0..p.len()).map(|i| p.mass(i)).sum();
-        if let Some(m) = models::figures(s, mass, sim.charge.time) {
-            figures.insert("models".into(), m);
-        }
+    }
+    if let Some(m) = ring_models {
+        figures.insert("models".into(), m);
     }
     if let Some(l) = ledger::figures(&history.history) {
         figures.insert("energy_ledger".into(), l);
