@@ -38,6 +38,7 @@ fn main() {
             lo: DVec2::ZERO,
             h,
             cells: [cells, cells],
+            periodic_y: false,
         },
         shape,
         half_width: 0.25,

@@ -88,6 +88,7 @@ pub const SMOOTHING: f64 = 3.0;
 /// summed over bodies (`global.bond` must hold them).
 pub fn smooth(global: &mut Global) {
     let [cols, rows] = global.dims;
+    let wrap = global.wrap;
     let reach = (2.0 * SMOOTHING).ceil() as usize;
     let weights: Vec<f64> = (0..=reach)
         .map(|d| (-(d as f64 / SMOOTHING).powi(2)).exp())
@@ -103,12 +104,26 @@ pub fn smooth(global: &mut Global) {
             let (mut f, mut l) = (0.0, 0.0);
             for cc in c.saturating_sub(reach)..(c + reach + 1).min(cols) {
                 let wc = weights[cc.abs_diff(c)];
-                for rr in r.saturating_sub(reach)..(r + reach + 1).min(rows) {
+                let mut add = |rr: usize, d: usize| {
                     let o = &bond[cc * rows + rr];
                     if o.length > 0.0 {
-                        let w = wc * weights[rr.abs_diff(r)];
+                        let w = wc * weights[d];
                         f += w * o.force;
                         l += w * o.length;
+                    }
+                };
+                match wrap {
+                    None => {
+                        for rr in r.saturating_sub(reach)..(r + reach + 1).min(rows) {
+                            add(rr, rr.abs_diff(r));
+                        }
+                    }
+                    // Along a periodic y the neighbours wrap through the seam.
+                    Some(w) => {
+                        let reach = reach.min((w.ny - 1) / 2) as isize;
+                        for d in -reach..=reach {
+                            add(w.offset(r, d), d.unsigned_abs());
+                        }
                     }
                 }
             }
@@ -193,22 +208,35 @@ pub fn body_lengths<K: Kernel>(
         lo: grid.lo,
         inv_h: 1.0 / grid.h,
         lp: half_width,
+        wrap_y: grid.period_y().map(|l| (grid.lo.y, l)),
     };
     let stencils: Vec<Stencil> = range
         .clone()
         .map(|i| place.stencil::<K>(p.pos[i]))
         .collect();
     let c0 = stencils.iter().map(|s| s.col).min().unwrap_or(0);
-    let r0 = stencils.iter().map(|s| s.row).min().unwrap_or(0);
     let c1 = stencils.iter().map(|s| s.col + 3).max().unwrap_or(0);
-    let rows = stencils.iter().map(|s| s.row + 3).max().unwrap_or(0) - r0;
+    // Along a periodic y every row is its canonical one, so a body across the seam is
+    // summed on one node there (its two halves are not two surfaces).
+    let wrap = grid.canonical_rows();
+    let (r0, rows) = match wrap {
+        Some(_) => (0, grid.stored()[1]),
+        None => {
+            let r0 = stencils.iter().map(|s| s.row).min().unwrap_or(0);
+            (
+                r0,
+                stencils.iter().map(|s| s.row + 3).max().unwrap_or(0) - r0,
+            )
+        }
+    };
+    let row = |r: usize| wrap.map_or(r, |w| w.canonical(r)) - r0;
     // Per node: mass, mass × damage, volume gradient.
     let mut nodes = vec![(0.0, 0.0, DVec2::ZERO); (c1 - c0) * rows];
     for (i, s) in range.zip(&stencils) {
         let (m, d, v) = (p.mass[i], damage(i), p.volume(i));
         for a in 0..K::N {
             for b in 0..K::N {
-                let n = &mut nodes[(s.col + a - c0) * rows + (s.row + b - r0)];
+                let n = &mut nodes[(s.col + a - c0) * rows + row(s.row + b)];
                 let w = s.wx[a] * s.wy[b];
                 n.0 += w * m;
                 n.1 += w * m * d;
@@ -276,6 +304,7 @@ mod tests {
             lo: DVec2::ZERO,
             h: 1.0,
             cells: [20, 20],
+            periodic_y: false,
         };
         let mut g = Global::new(&grid, true);
         // A row of intact nodes carrying 2 N per 0.5 m, one outlier, and a failed node
@@ -304,6 +333,7 @@ mod tests {
             lo: DVec2::ZERO,
             h: 0.1,
             cells: [30, 30],
+            periodic_y: false,
         };
         let (centre, radius) = (DVec2::splat(1.5), 1.0);
         let disk = Geometry::Disk {

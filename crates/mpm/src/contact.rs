@@ -9,7 +9,7 @@
 //! [`crate::bond`].
 
 use crate::bond;
-use crate::grid::{Grid, GHOST};
+use crate::grid::{Grid, Rows, GHOST};
 use crate::nodes::{GlobalBond, GlobalNode, Node, Patch};
 use crate::setup::{ContactLaw, ContactTable};
 use crate::shape::{Bspline2, Gimp, Kernel, Linear, ShapeFunction};
@@ -81,6 +81,11 @@ pub struct Others<'a> {
     pub bond: &'a [GlobalBond],
     /// Stored rows of the global grid.
     pub rows: usize,
+    /// Row arithmetic of a periodic y (a patch's image rows meet the others at their
+    /// canonical rows).
+    pub wrap: Option<Rows>,
+    /// Cell size (m).
+    pub h: f64,
     /// Laws per pair.
     pub table: &'a ContactTable,
     /// Nairn's separation cut-off (see [`touching_separation`]).
@@ -89,9 +94,16 @@ pub struct Others<'a> {
     pub density: &'a [f64],
 }
 
-#[inline]
-fn patch_x(xs: &[DVec2], k: usize) -> DVec2 {
-    xs[k]
+impl Others<'_> {
+    /// Global index of the node in patch column `c`, row `r` of `patch`.
+    #[inline]
+    fn at(&self, patch: &Patch, c: usize, r: usize) -> usize {
+        let col = (patch.lo[0] + c) * self.rows;
+        match self.wrap {
+            None => col + patch.lo[1] + r,
+            Some(w) => col + w.canonical(patch.lo[1] + r),
+        }
+    }
 }
 
 #[inline]
@@ -183,12 +195,13 @@ fn length(b: u16, partner: u16, g: &GlobalNode, len: f64, density: &[f64]) -> f6
 /// normal) and the interface length the node stands for, into the patch's bond records.
 pub fn bond_forces(b: u16, patch: &mut Patch, others: &Others, dt: f64) {
     let rows = patch.size[1];
-    for (c, col) in patch.nodes.chunks(rows).enumerate() {
-        let at = (patch.lo[0] + c) * others.rows + patch.lo[1];
-        for (r, n) in col.iter().enumerate() {
+    for c in 0..patch.size[0] {
+        for r in 0..rows {
+            let at = others.at(patch, c, r);
+            let n = &patch.nodes[c * rows + r];
             let rec = &mut patch.bond[c * rows + r];
             (rec.force, rec.length) = (0.0, 0.0);
-            let g = &others.global[at + r];
+            let g = &others.global[at];
             if g.count < 2 || n.m <= 0.0 || rec.failed {
                 continue;
             }
@@ -198,7 +211,7 @@ pub fn bond_forces(b: u16, patch: &mut Patch, others: &Others, dt: f64) {
             else {
                 continue;
             };
-            if others.bond[at + r].strength.min(strength) <= 0.0 {
+            if others.bond[at].strength.min(strength) <= 0.0 {
                 continue;
             }
             if let (target, Some((normal, len))) = meeting(n, g) {
@@ -221,23 +234,29 @@ pub fn bodies(b: u16, patch: &mut Patch, others: &Others, pass: Pass, dt: f64) -
     let inv_dt = 1.0 / dt;
     let keep = !patch.xs.is_empty();
     let (table, separation) = (others.table, others.separation);
-    for (c, col) in patch.nodes.chunks_mut(rows).enumerate() {
-        let at = (patch.lo[0] + c) * others.rows + patch.lo[1];
-        let gcol = &others.global[at..][..rows];
-        for (r, (n, g)) in col.iter_mut().zip(gcol).enumerate() {
-            if g.count < 2 || n.m <= 0.0 {
+    for c in 0..patch.size[0] {
+        for r in 0..rows {
+            let k = c * rows + r;
+            let at = others.at(patch, c, r);
+            let g = &others.global[at];
+            if g.count < 2 || patch.nodes[k].m <= 0.0 {
                 continue;
             }
+            let xs = if keep {
+                patch.position_sum(k, others.wrap, others.h)
+            } else {
+                DVec2::ZERO
+            };
+            let n = &mut patch.nodes[k];
             let partner = g.partner(b);
             let law = table.get(b as usize, partner as usize);
             let (target, normal) = meeting(n, g);
-            let k = c * rows + r;
             // A bond's state here: its strength (0 once failed), the traction it
             // carries (tested after integration), and the normal traction of the
             // stresses (for the compression test once debonded).
             let bonded = match law {
                 ContactLaw::Bonded { strength, mu } => {
-                    let gb = &others.bond[at + r];
+                    let gb = &others.bond[at];
                     let s = if patch.bond[k].failed {
                         0.0
                     } else {
@@ -265,11 +284,11 @@ pub fn bodies(b: u16, patch: &mut Patch, others: &Others, pass: Pass, dt: f64) -
             if let (Some(cut), true, false) =
                 (separation, keep, intact || law == ContactLaw::NoSlip)
             {
-                let mine = patch_x(&patch.xs, k) / n.m;
+                let mine = xs / n.m;
                 let theirs = if g.m_rigid > 0.0 {
                     g.x_rigid / g.m_rigid
                 } else {
-                    (g.x - patch_x(&patch.xs, k)) / (g.m - n.m)
+                    (g.x - xs) / (g.m - n.m)
                 };
                 if (theirs - mine).dot(normal) > cut {
                     continue;
@@ -396,6 +415,7 @@ mod tests {
             lo: DVec2::ZERO,
             h: 1.0,
             cells: [4, 4],
+            periodic_y: false,
         };
         let mut patch = Patch::default();
         patch.reset([0, 0], [3, 3], false, false);

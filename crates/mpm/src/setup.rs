@@ -300,6 +300,24 @@ impl Setup {
                 }
             }
         }
+        if self.grid.periodic_y {
+            for side in [2, 3] {
+                if let Some(mu) = self.walls[side] {
+                    return Err(InputError::new(
+                        format!("walls.{}", SIDES[side]),
+                        format!("{{ mu = {mu} }}"),
+                        "the grid is periodic along y (grid.periodic_y): no wall at the bottom or top",
+                    ));
+                }
+            }
+            if self.gravity.y != 0.0 {
+                return Err(InputError::new(
+                    "gravity",
+                    format!("{:?}", self.gravity.to_array()),
+                    "no y component along a periodic y (grid.periodic_y): the potential energy would jump at the seam",
+                ));
+            }
+        }
         if !self.gravity.is_finite() {
             return Err(InputError::new(
                 "gravity",
@@ -365,6 +383,7 @@ mod tests {
                 lo: DVec2::ZERO,
                 h: 0.1,
                 cells: [10, 10],
+                periodic_y: false,
             },
             shape: ShapeFunction::Gimp,
             half_width: 0.25,

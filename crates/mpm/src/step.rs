@@ -137,12 +137,13 @@ fn step_with<K: Kernel>(
     grid_velocities(setup, w, dt);
     let seen = g2p::<K>(setup, &mut s.particles, w, t, dt);
     if setup.scheme == UpdateScheme::Musl {
-        remap::<K>(&s.particles, w);
+        remap::<K>(setup, &s.particles, w);
         touch = merge(touch, correct(setup, w, Pass::Interpolated, true, dt));
         grid_velocities(setup, w, dt);
         stress_last::<K>(setup, &mut s.particles, w, (t, dt));
     }
     if touch.iter().any(|t| t.debonded > 0) {
+        unfold(setup, w);
         forget_bonds::<K>(&mut s.particles, w);
     }
     s.touch = touch;
@@ -172,6 +173,7 @@ fn place(setup: &Setup) -> Place {
         lo: setup.grid.lo,
         inv_h: 1.0 / setup.grid.h,
         lp: setup.half_width,
+        wrap_y: setup.grid.period_y().map(|l| (setup.grid.lo.y, l)),
     }
 }
 
@@ -236,6 +238,22 @@ fn p2g<K: Kernel>(setup: &Setup, p: &Particles, w: &mut Solver) {
                 }
             });
     }
+    fold(setup, w);
+}
+
+/// Along a periodic y, each patch's image rows added to their canonical rows.
+fn fold(setup: &Setup, w: &mut Solver) {
+    if let Some(rows) = setup.grid.canonical_rows() {
+        let h = setup.grid.h;
+        w.patches.par_iter_mut().for_each(|p| p.fold(rows, h));
+    }
+}
+
+/// Along a periodic y, the canonical rows' kinematics copied to the images.
+fn unfold(setup: &Setup, w: &mut Solver) {
+    if let Some(rows) = setup.grid.canonical_rows() {
+        w.patches.par_iter_mut().for_each(|p| p.unfold(rows));
+    }
 }
 
 /// One contact correction: sums the bodies (if several), then corrects each free body
@@ -288,6 +306,8 @@ fn others<'a>(setup: &'a Setup, g: &'a Global, density: &'a [f64]) -> Others<'a>
         global: &g.nodes,
         bond: &g.bond,
         rows: g.dims[1],
+        wrap: g.wrap,
+        h: setup.grid.h,
         table: &setup.contact,
         separation: setup.separation,
         density,
@@ -303,6 +323,7 @@ fn stress_first<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, win
             k.v = if n.m > 0.0 { n.p / n.m } else { DVec2::ZERO };
         }
     });
+    unfold(setup, w);
     for colour in 0..2 {
         let layout = &w.layout;
         let stencils = &w.stencils;
@@ -324,6 +345,7 @@ fn stress_first<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, win
             }
         });
     }
+    fold(setup, w);
 }
 
 /// Gravity and integration of the free bodies' momenta: p* = p + (f + m g) Δt.
@@ -364,6 +386,7 @@ fn grid_velocities(setup: &Setup, w: &mut Solver, dt: f64) {
             }
         }
     });
+    unfold(setup, w);
 }
 
 /// Grid to particles: velocity, position and (USL, USAVG's second half) stress.
@@ -429,7 +452,7 @@ fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, t: f64, dt: 
 }
 
 /// MUSL: the updated particle momenta mapped back to the grid at the old positions.
-fn remap<K: Kernel>(p: &Particles, w: &mut Solver) {
+fn remap<K: Kernel>(setup: &Setup, p: &Particles, w: &mut Solver) {
     w.patches.par_iter_mut().for_each(|patch| {
         for n in patch.nodes.iter_mut() {
             n.p = DVec2::ZERO;
@@ -447,6 +470,7 @@ fn remap<K: Kernel>(p: &Particles, w: &mut Solver) {
                 transfer::scatter_momentum::<K>(src, (start, end), &mut view, cache);
             });
     }
+    fold(setup, w);
 }
 
 /// MUSL: stress from the re-mapped grid velocities over the time `window` (start,

@@ -20,6 +20,9 @@ pub struct Place {
     pub inv_h: f64,
     /// GIMP half-width (grid units).
     pub lp: f64,
+    /// Along a periodic y: the domain's lower y and the period (points that cross the
+    /// seam come back on the other side).
+    pub wrap_y: Option<(f64, f64)>,
 }
 
 /// Weights of one point: 3 × 3 tensor-product stencil from stored node `(col, row)`.
@@ -42,6 +45,20 @@ pub struct Stencil {
 }
 
 impl Place {
+    /// Where a point that moved to `x` is kept: `x`, or along a periodic y its image in
+    /// the domain.
+    #[inline(always)]
+    pub fn keep(&self, mut x: DVec2) -> DVec2 {
+        if let Some((lo, l)) = self.wrap_y {
+            if x.y >= lo + l {
+                x.y -= l;
+            } else if x.y < lo {
+                x.y += l;
+            }
+        }
+        x
+    }
+
     /// The stencil of a point at `x`.
     #[inline(always)]
     pub fn stencil<K: Kernel>(&self, x: DVec2) -> Stencil {
@@ -355,7 +372,7 @@ pub fn gather[K: Kernel, M: Model, const STRESS: bool][K, M, STRESS](
         } else {
             flip * flipped + (1.0 - flip) * v
         };
-        let nx = x + dt * v;
+        let nx = place.keep(x + dt * v);
         match pts.next.as_deref_mut() {
             Some(next) => next[i] = nx,
             None => pts.pos[i] = nx,
@@ -402,7 +419,7 @@ pub fn move_rigid(
     let mut seen = Seen::empty();
     for i in 0..pts.pos.len() {
         pts.vel[i] = v;
-        let nx = pts.pos[i] + dt * v;
+        let nx = place.keep(pts.pos[i] + dt * v);
         match pts.next.as_deref_mut() {
             Some(next) => next[i] = nx,
             None => pts.pos[i] = nx,

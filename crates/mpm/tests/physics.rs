@@ -34,6 +34,7 @@ fn setup(
             lo: DVec2::ZERO,
             h: 0.125,
             cells: [32, 16],
+            periodic_y: false,
         },
         shape,
         half_width: 0.25,

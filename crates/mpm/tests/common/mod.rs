@@ -42,6 +42,7 @@ pub fn setup(
             lo: DVec2::from(lo),
             h,
             cells,
+            periodic_y: false,
         },
         shape,
         half_width: 0.25,

@@ -171,6 +171,7 @@ pub fn setup(o: &Options) -> Result<(Setup, Particles, f64), String> {
             lo: DVec2::ZERO,
             h,
             cells: [o.grid, o.grid],
+            periodic_y: false,
         },
         shape,
         half_width: (0.5 * pitch.max_element() / h).min(0.5),

@@ -230,6 +230,7 @@ fn outlines(g: &Geometry) -> Vec<Outline> {
             .into_iter()
             .chain(minus.iter().flat_map(outlines))
             .collect(),
+        Geometry::Union { parts } => parts.iter().flat_map(outlines).collect(),
     }
 }
 

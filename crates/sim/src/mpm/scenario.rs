@@ -58,6 +58,10 @@ pub struct GridSpec {
     /// Material points per cell along each axis (2 → 4 points per cell).
     #[serde(default = "default_ppc")]
     pub particles_per_cell: u32,
+    /// Periodic along y with this period (m): the bottom and top edges are one line. It
+    /// must be the domain's height `hi.y − lo.y`.
+    #[serde(default)]
+    pub periodic_y: Option<f64>,
 }
 
 fn default_ppc() -> u32 {
