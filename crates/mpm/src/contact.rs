@@ -19,9 +19,9 @@ use glam::DVec2;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Pass {
     /// On the interpolated momenta (and MUSL's re-mapped ones): momentum only.
-    Interpolated,
+    Interpolated = 0,
     /// After integration: the change also enters the nodal force, so FLIP sees it.
-    Integrated,
+    Integrated = 1,
 }
 
 /// The Coulomb-limited momentum change that brings `dp` (stick change) into contact
@@ -47,7 +47,10 @@ pub fn coulomb(dp: DVec2, n: DVec2, law: ContactLaw) -> Option<DVec2> {
     }
 }
 
-/// What a body's corrections touched this pass.
+/// What a body's corrections touched and exchanged in a pass (or a step, merged). The
+/// momenta and works count only the corrections that reach the particles (the second
+/// pass, and the first with `pass1_to_particles`), so over a step they are what the
+/// points receive.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Touch {
     /// Nodes corrected against other bodies.
@@ -58,18 +61,67 @@ pub struct Touch {
     pub walls: u8,
     /// Nodes where a bond failed.
     pub debonded: u32,
+    /// Momentum this body's field received from free bodies' fields (N·s per unit
+    /// thickness).
+    pub from_free: DVec2,
+    /// Momentum received from rigid bodies; for a rigid body, the momentum it received
+    /// from the free bodies (the reaction to what it gave them).
+    pub from_rigid: DVec2,
+    /// Momentum received from the walls.
+    pub from_walls: DVec2,
+    /// Work of rigid bodies through these corrections, by kind ([`SLIDE`], [`HELD`]): a
+    /// rigid body's on the free bodies' fields (and, under the lumped rule, a rigid
+    /// master's on this free body's field); J per unit thickness.
+    pub work: [f64; 2],
+    /// With [`crate::Setup::ledger`], over the velocity change the particles take from
+    /// the grid, at its midpoint velocity v̄: the work Σ m v̄·δv of this body's
+    /// corrections of each kind on its grid field (δv the velocity they gave a node) ...
+    pub grid: [f64; 2],
+    /// ... and its grid field's kinetic energy change Σ m v̄·Δv, of which they are part
+    /// (the rest is the internal and body forces' work).
+    pub ke_grid: f64,
+    /// Its points' kinetic energy change. ke_grid − ke_points ≥ 0 is what the transfer
+    /// to the points loses (the FLIP projection of a non-smooth change).
+    pub ke_points: f64,
 }
+
+/// Kind of a correction: Coulomb friction (sliding, sticking or approaching), walls.
+pub const SLIDE: usize = 0;
+/// Kind of a correction: an intact (or failing) bond or `no_slip` holding fields together.
+pub const HELD: usize = 1;
 
 impl Touch {
     /// Both together.
     pub fn merge(self, o: Touch) -> Touch {
+        let add = |a: [f64; 2], b: [f64; 2]| [a[0] + b[0], a[1] + b[1]];
         Touch {
             body_nodes: self.body_nodes + o.body_nodes,
             partner: o.partner.or(self.partner),
             walls: self.walls | o.walls,
             debonded: self.debonded + o.debonded,
+            from_free: self.from_free + o.from_free,
+            from_rigid: self.from_rigid + o.from_rigid,
+            from_walls: self.from_walls + o.from_walls,
+            work: add(self.work, o.work),
+            grid: add(self.grid, o.grid),
+            ke_grid: self.ke_grid + o.ke_grid,
+            ke_points: self.ke_points + o.ke_points,
         }
     }
+}
+
+/// How contact is resolved where more than two bodies meet.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Crowd {
+    /// Pair by pair, each pair's changes equal and opposite (momentum is exact); rigid
+    /// bodies take part as pairs too ([`crate::crowd`]).
+    #[default]
+    Pairwise,
+    /// Each body against the lumped rest with its heaviest partner's law, a rigid body
+    /// as the master of all (the rule before pairs; momentum is not exact where three
+    /// bodies meet, and free bodies at a rigid body's node do not meet each other).
+    Lumped,
 }
 
 /// What one body's contact correction reads besides its own patch.
@@ -92,12 +144,16 @@ pub struct Others<'a> {
     pub separation: Option<f64>,
     /// Density of each body's material (for the interface length at a node).
     pub density: &'a [f64],
+    /// Pairwise contact: leave the nodes [`crate::crowd`] resolves.
+    pub pairwise: bool,
+    /// This pass's corrections reach the particles: count their impulses and energies.
+    pub counts: bool,
 }
 
 impl Others<'_> {
     /// Global index of the node in patch column `c`, row `r` of `patch`.
     #[inline]
-    fn at(&self, patch: &Patch, c: usize, r: usize) -> usize {
+    pub fn at(&self, patch: &Patch, c: usize, r: usize) -> usize {
         let col = (patch.lo[0] + c) * self.rows;
         match self.wrap {
             None => col + patch.lo[1] + r,
@@ -222,6 +278,17 @@ pub fn bond_forces(b: u16, patch: &mut Patch, others: &Others, dt: f64) {
     }
 }
 
+/// What body `b`'s change `dp` of its field at node `g` exchanges: momentum from the
+/// others, and a rigid master's work dp·v_rigid, of kind `kind`.
+fn count(touch: &mut Touch, dp: DVec2, g: &GlobalNode, kind: usize) {
+    if g.m_rigid > 0.0 {
+        touch.from_rigid += dp;
+        touch.work[kind] += dp.dot(g.p_rigid) / g.m_rigid;
+    } else {
+        touch.from_free += dp;
+    }
+}
+
 /// Corrects body `b`'s patch against the other bodies summed in `others.global`. With
 /// a separation cut-off, nodes where the two sides' material centroids are farther apart
 /// than that along the normal are left alone (the bodies are near, not touching). Bonds
@@ -240,6 +307,9 @@ pub fn bodies(b: u16, patch: &mut Patch, others: &Others, pass: Pass, dt: f64) -
             let at = others.at(patch, c, r);
             let g = &others.global[at];
             if g.count < 2 || patch.nodes[k].m <= 0.0 {
+                continue;
+            }
+            if others.pairwise && crate::crowd::crowded(g) {
                 continue;
             }
             let xs = if keep {
@@ -275,7 +345,12 @@ pub fn bodies(b: u16, patch: &mut Patch, others: &Others, pass: Pass, dt: f64) -
             let Some((normal, _)) = normal else {
                 // No normal: only an intact bond still acts (the fields move as one).
                 if intact {
-                    apply(n, target - n.p, pass, inv_dt, 1);
+                    let dp = target - n.p;
+                    if others.counts {
+                        count(&mut touch, dp, g, HELD);
+                        patch.record(k, pass as usize, HELD, dp);
+                    }
+                    apply(&mut patch.nodes[k], dp, pass, inv_dt, 1);
                     touch.body_nodes += 1;
                     touch.partner = Some(partner);
                 }
@@ -294,19 +369,27 @@ pub fn bodies(b: u16, patch: &mut Patch, others: &Others, pass: Pass, dt: f64) -
                     continue;
                 }
             }
-            let dp = match bonded {
+            let (dp, held) = match bonded {
                 Some((s, pull, t, mu)) => {
                     let (dp, failed) = bond::bonded(target - n.p, normal, pull, t, s, mu);
                     if failed {
                         patch.bond[k].failed = true;
                         touch.debonded += 1;
                     }
-                    dp
+                    (dp, s > 0.0)
                 }
-                None => coulomb(target - n.p, normal, law),
+                None => (
+                    coulomb(target - n.p, normal, law),
+                    law == ContactLaw::NoSlip,
+                ),
             };
             if let Some(dp) = dp {
-                apply(n, dp, pass, inv_dt, 1);
+                let kind = if held { HELD } else { SLIDE };
+                if others.counts {
+                    count(&mut touch, dp, g, kind);
+                    patch.record(k, pass as usize, kind, dp);
+                }
+                apply(&mut patch.nodes[k], dp, pass, inv_dt, 1);
                 touch.body_nodes += 1;
                 touch.partner = Some(partner);
             }
@@ -331,6 +414,7 @@ pub fn walls(
     grid: &Grid,
     walls: &[Option<f64>; 4],
     pass: Pass,
+    counts: bool,
     dt: f64,
 ) -> Touch {
     let mut touch = Touch::default();
@@ -359,6 +443,12 @@ pub fn walls(
                 }
                 // Stick change: bring the node to rest against the wall.
                 if let Some(dp) = coulomb(-n.p, normal, law) {
+                    if counts {
+                        touch.from_walls += dp;
+                        if !patch.ledger.is_empty() {
+                            patch.ledger[k].dv[pass as usize][SLIDE] += dp / n.m;
+                        }
+                    }
                     apply(n, dp, pass, inv_dt, 2 << side);
                     touch.walls |= 1 << side;
                 }
@@ -418,7 +508,7 @@ mod tests {
             periodic_y: false,
         };
         let mut patch = Patch::default();
-        patch.reset([0, 0], [3, 3], false, false);
+        patch.reset([0, 0], [3, 3], false, false, false);
         for n in &mut patch.nodes {
             n.m = 2.0;
             n.p = DVec2::new(-1.0, 0.4);
@@ -428,9 +518,12 @@ mod tests {
             &grid,
             &[Some(0.1), None, None, None],
             Pass::Integrated,
+            true,
             0.5,
         );
         assert_eq!(t.walls, 1);
+        // Six nodes each lose (1, −0.1): the wall's impulse.
+        assert!((t.from_walls - DVec2::new(6.0, -0.6)).length() < 1e-14);
         // Columns 0 and 1 (ghost and edge) are corrected, column 2 is not.
         assert!((patch.nodes[0].p - DVec2::new(0.0, 0.3)).length() < 1e-15);
         assert!((patch.nodes[3].p - DVec2::new(0.0, 0.3)).length() < 1e-15);

@@ -27,6 +27,7 @@
 
 pub mod bond;
 pub mod contact;
+pub mod crowd;
 pub mod diagnostics;
 pub mod geometry;
 pub mod grid;
@@ -43,7 +44,7 @@ pub mod thermal;
 pub mod timestep;
 pub mod transfer;
 
-pub use contact::Touch;
+pub use contact::{Crowd, Touch};
 pub use geometry::Geometry;
 pub use grid::Grid;
 pub use material::{Material, PronyTerm, Stress};

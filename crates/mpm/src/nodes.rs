@@ -69,12 +69,34 @@ pub struct Patch {
     pub xs: Vec<DVec2>,
     /// Bonded-interface sums (only kept when some contact law bonds; empty otherwise).
     pub bond: Vec<BondNode>,
+    /// What the energy ledger needs of each node ([`crate::Setup::ledger`]; empty
+    /// otherwise).
+    pub ledger: Vec<LedgerNode>,
+}
+
+/// One node's share of the energy ledger in a step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LedgerNode {
+    /// The velocity the counted contact corrections gave the node, by pass (the first,
+    /// after the transfer; the second, after integration) and by kind
+    /// ([`crate::contact::SLIDE`], [`crate::contact::HELD`]).
+    pub dv: [[DVec2; 2]; 2],
+    /// The internal and body force integrated in the step (before the second pass).
+    pub f: DVec2,
 }
 
 impl Patch {
     /// Re-shapes the patch to cover stored nodes `[lo, hi)` and zeroes it; keeps the
-    /// centroid sums if `positions` and the bond sums if `bonds`.
-    pub fn reset(&mut self, lo: [usize; 2], hi: [usize; 2], positions: bool, bonds: bool) {
+    /// centroid sums if `positions`, the bond sums if `bonds` and the contact velocity
+    /// changes if `ledger`.
+    pub fn reset(
+        &mut self,
+        lo: [usize; 2],
+        hi: [usize; 2],
+        positions: bool,
+        bonds: bool,
+        ledger: bool,
+    ) {
         self.lo = lo;
         self.size = [hi[0] - lo[0], hi[1] - lo[1]];
         let n = self.size[0] * self.size[1];
@@ -89,6 +111,19 @@ impl Patch {
         self.bond.clear();
         if bonds {
             self.bond.resize(n, BondNode::default());
+        }
+        self.ledger.clear();
+        if ledger {
+            self.ledger.resize(n, LedgerNode::default());
+        }
+    }
+
+    /// Records the momentum change `dp` of a correction of kind `kind` in pass `pass`
+    /// (0 or 1) at local node `k`, as a velocity change (only with the ledger kept).
+    #[inline]
+    pub fn record(&mut self, k: usize, pass: usize, kind: usize, dp: DVec2) {
+        if !self.ledger.is_empty() {
+            self.ledger[k].dv[pass][kind] += dp / self.nodes[k].m;
         }
     }
 
@@ -428,9 +463,9 @@ mod tests {
             periodic_y: false,
         };
         let mut patches = vec![Patch::default(), Patch::default(), Patch::default()];
-        patches[0].reset([2, 1], [20, 4], false, false);
-        patches[1].reset([18, 0], [30, 3], false, false);
-        patches[2].reset([19, 1], [21, 2], false, false);
+        patches[0].reset([2, 1], [20, 4], false, false, false);
+        patches[1].reset([18, 0], [30, 3], false, false, false);
+        patches[2].reset([19, 1], [21, 2], false, false, false);
         for (b, p) in patches.iter_mut().enumerate() {
             for n in &mut p.nodes {
                 n.m = 1.0 + b as f64;

@@ -177,6 +177,9 @@ pub struct Setup {
     pub bodies: Vec<Body>,
     /// Contact law per pair of bodies.
     pub contact: ContactTable,
+    /// How contact is resolved where more than two bodies (or a rigid body and another)
+    /// meet at a node.
+    pub crowd: crate::contact::Crowd,
     /// Separation test between bodies (Nairn's position method): a node's fields are
     /// only corrected where the bodies' material centroids there are at most this far
     /// apart along the normal (m); `None`: approach alone decides.
@@ -187,6 +190,9 @@ pub struct Setup {
     pub walls: [Option<f64>; 4],
     /// Gravitational acceleration (m/s²).
     pub gravity: DVec2,
+    /// Keep the energy ledger of contact: the work the corrections do on the points, by
+    /// kind ([`crate::Touch::points`]); costs a little in the particle update.
+    pub ledger: bool,
 }
 
 fn positive(key: String, v: f64) -> Result<(), InputError> {
@@ -393,9 +399,11 @@ mod tests {
             materials: vec![m],
             bodies: vec![Body::free("a", 0), Body::free("b", 0)],
             contact: ContactTable::new(2, law),
+            crowd: Default::default(),
             separation: None,
             walls: [None; 4],
             gravity: DVec2::ZERO,
+            ledger: false,
         }
     }
 

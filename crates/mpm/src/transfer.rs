@@ -240,6 +240,8 @@ fn velocity_gradient<K: Kernel>(
 
 /// Mutable per-point fields a gather writes.
 pub struct Points<'a> {
+    /// Masses.
+    pub mass: &'a [f64],
     /// Positions (read; written unless `next` is given).
     pub pos: &'a mut [DVec2],
     /// Velocities.
@@ -292,6 +294,8 @@ pub struct Seen {
     pub drifted: bool,
     /// Some point left the domain or is not finite.
     pub escaped: bool,
+    /// The points' kinetic energy change (with the ledger).
+    pub ke: f64,
 }
 
 impl Seen {
@@ -302,6 +306,7 @@ impl Seen {
             max: DVec2::NEG_INFINITY,
             drifted: false,
             escaped: false,
+            ke: 0.0,
         }
     }
 
@@ -312,6 +317,7 @@ impl Seen {
             max: self.max.max(o.max),
             drifted: self.drifted || o.drifted,
             escaped: self.escaped || o.escaped,
+            ke: self.ke + o.ke,
         }
     }
 
@@ -331,9 +337,10 @@ impl Seen {
 multiversion! {
 /// The grid-to-particle update of one strip: FLIP/PIC velocity, position, and (`STRESS`,
 /// USL and USAVG) the stress from the updated grid velocity (the model carries its own
-/// step, the whole or the second half of `dt`).
+/// step, the whole or the second half of `dt`). With `KE`, the points' kinetic energy
+/// change is summed (the energy ledger).
 #[allow(clippy::too_many_arguments)]
-pub fn gather[K: Kernel, M: Model, const STRESS: bool][K, M, STRESS](
+pub fn gather[K: Kernel, M: Model, const STRESS: bool, const KE: bool][K, M, STRESS, KE](
     place: &Place,
     hi: DVec2,
     model: &M,
@@ -366,12 +373,16 @@ pub fn gather[K: Kernel, M: Model, const STRESS: bool][K, M, STRESS](
                 }
             }
         }
+        let old = pts.vel[i];
         let flipped = pts.vel[i] + dt * a_sum;
         pts.vel[i] = if flip == 1.0 {
             flipped
         } else {
             flip * flipped + (1.0 - flip) * v
         };
+        if KE {
+            seen.ke += 0.5 * pts.mass[i] * (pts.vel[i].length_squared() - old.length_squared());
+        }
         let nx = place.keep(x + dt * v);
         match pts.next.as_deref_mut() {
             Some(next) => next[i] = nx,

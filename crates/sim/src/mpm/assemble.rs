@@ -403,9 +403,14 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         materials: s.materials.clone(),
         bodies,
         contact,
+        crowd: s.contact.multi_body,
         separation,
         walls,
         gravity: DVec2::from(s.gravity),
+        ledger: s.shear.is_some()
+            || s.checks
+                .iter()
+                .any(|c| matches!(c, super::scenario::CheckSpec::EnergyLedger { .. })),
     };
     setup.validate()?;
     let dt_critical = timestep::critical_dt(&setup, &particles);

@@ -194,6 +194,27 @@ pub fn bond_maps(
     Ok(())
 }
 
+/// Point maps: (file, caption, colour-bar label, snapshot) each.
+pub fn maps(
+    dir: &Path,
+    maps: &[(String, String, String, Snapshot)],
+    point_radius: f64,
+) -> anyhow::Result<()> {
+    for (file, caption, label, s) in maps {
+        let radii = vec![point_radius; s.pos.len()];
+        ParticleMap {
+            title: &format!("{caption}, t = {}", time_label(s.t)),
+            centres: &s.pos,
+            radii: &radii,
+            values: &s.value,
+            value_label: label,
+            outlines: &[],
+        }
+        .write_png(&dir.join(file))?;
+    }
+    Ok(())
+}
+
 /// A body's initial outline: circles as 128-gons, rectangles, polygons, the parts of a
 /// difference.
 fn outlines(g: &Geometry) -> Vec<Outline> {
