@@ -64,6 +64,10 @@ pub struct Crowds {
     entries: Vec<Vec<Entry>>,
     changes: Vec<Vec<Change>>,
     order: Vec<(usize, u16, u32)>,
+    /// One node's fields, momenta and changes while its pairs are resolved.
+    group: Vec<(u16, Entry)>,
+    p: Vec<DVec2>,
+    ch: Vec<Change>,
 }
 
 /// Resolves every crowded node of the patches: corrects the free bodies' fields
@@ -105,13 +109,16 @@ pub fn resolve(
             end += 1;
         }
         let group = &scratch.order[start..end];
-        let entries: Vec<(u16, Entry)> = group
-            .iter()
-            .map(|&(_, b, i)| (b, scratch.entries[b as usize][i as usize]))
-            .collect();
-        let changes = node_pairs(&entries, rigid, others, pass);
-        for (&(_, b, i), c) in group.iter().zip(changes) {
-            scratch.changes[b as usize][i as usize] = c;
+        scratch.group.clear();
+        scratch.group.extend(
+            group
+                .iter()
+                .map(|&(_, b, i)| (b, scratch.entries[b as usize][i as usize])),
+        );
+        let (p, ch) = (&mut scratch.p, &mut scratch.ch);
+        node_pairs(&scratch.group, rigid, others, pass, p, ch);
+        for (&(_, b, i), c) in group.iter().zip(ch.iter()) {
+            scratch.changes[b as usize][i as usize] = *c;
         }
         start = end;
     }
@@ -181,16 +188,21 @@ fn collect(patch: &Patch, others: &Others, list: &mut Vec<Entry>) {
     }
 }
 
-/// The changes of the fields `entries` (body, field) at one node, pair by pair.
+/// The changes `ch` of the fields `entries` (body, field) at one node, pair by pair
+/// (`p` holds their momenta as they change).
 fn node_pairs(
     entries: &[(u16, Entry)],
     rigid: &[bool],
     others: &Others,
     pass: Pass,
-) -> Vec<Change> {
+    p: &mut Vec<DVec2>,
+    ch: &mut Vec<Change>,
+) {
     let n = entries.len();
-    let mut p: Vec<DVec2> = entries.iter().map(|(_, e)| e.p).collect();
-    let mut ch = vec![Change::default(); n];
+    p.clear();
+    p.extend(entries.iter().map(|(_, e)| e.p));
+    ch.clear();
+    ch.resize(n, Change::default());
     let node = entries[0].1.node;
     let gn = &others.global[node];
     // One pair is exact in one pass; more are swept until they agree.
@@ -206,7 +218,7 @@ fn node_pairs(
                     continue;
                 }
                 let (a, o) = if ri { (j, i) } else { (i, j) };
-                let Some(dp) = pair(entries, a, o, rj || ri, &p, &mut ch, gn, others, pass) else {
+                let Some(dp) = pair(entries, a, o, rj || ri, p, ch, gn, others, pass) else {
                     continue;
                 };
                 largest = largest.max(dp.length());
@@ -228,7 +240,6 @@ fn node_pairs(
             break;
         }
     }
-    ch
 }
 
 /// One pair's change of `a`'s field (`o`'s is its negative, or `o` is rigid); counts
@@ -389,7 +400,15 @@ mod tests {
         let (e, g) = node(&fields, &[false; 3]);
         let table = ContactTable::new(3, ContactLaw::Coulomb { mu: 0.3 });
         let gl = [g];
-        let ch = node_pairs(&e, &[false; 3], &others(&gl, &table), Pass::Integrated);
+        let (mut p, mut ch) = (Vec::new(), Vec::new());
+        node_pairs(
+            &e,
+            &[false; 3],
+            &others(&gl, &table),
+            Pass::Integrated,
+            &mut p,
+            &mut ch,
+        );
         let total: DVec2 = ch.iter().map(|c| c.dp).sum();
         let scale: f64 = e.iter().map(|(_, x)| x.p.length()).sum();
         assert!(total.length() <= 1e-15 * scale, "{total}");
@@ -427,7 +446,15 @@ mod tests {
         let (e, g) = node(&fields, &rigid);
         let table = ContactTable::new(3, ContactLaw::Coulomb { mu: 0.0 });
         let gl = [g];
-        let ch = node_pairs(&e, &rigid, &others(&gl, &table), Pass::Integrated);
+        let (mut p, mut ch) = (Vec::new(), Vec::new());
+        node_pairs(
+            &e,
+            &rigid,
+            &others(&gl, &table),
+            Pass::Integrated,
+            &mut p,
+            &mut ch,
+        );
         assert_eq!(ch[0].dp, DVec2::ZERO, "a rigid body is not moved");
         assert!(
             approach(&e, &ch, 1, 2) < 1e-12,

@@ -347,16 +347,40 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     let mut contact = ContactTable::new(s.bodies.len(), law("contact", c.law, c.mu, c.strength)?);
     for (k, p) in s.contact.pair.iter().enumerate() {
         let key = format!("contact.pair[{k}]");
-        let a = body_index(&format!("{key}.bodies"), &p.bodies[0])?;
-        let b = body_index(&format!("{key}.bodies"), &p.bodies[1])?;
-        if a == b {
-            return Err(InputError::new(
-                format!("{key}.bodies"),
-                format!("{:?}", p.bodies),
-                "must name two different bodies",
-            ));
+        // A name ending in '*' stands for every body whose name starts with the rest
+        // (the grains of a packing).
+        let matching = |name: &str| -> Result<Vec<usize>, InputError> {
+            match name.strip_suffix('*') {
+                Some(stem) => {
+                    let list: Vec<usize> = (0..names.len())
+                        .filter(|&b| names[b].starts_with(stem))
+                        .collect();
+                    if list.is_empty() {
+                        return Err(InputError::new(
+                            format!("{key}.bodies"),
+                            format!("\"{name}\""),
+                            format!("matches no body; must match one of {names:?}"),
+                        ));
+                    }
+                    Ok(list)
+                }
+                None => Ok(vec![body_index(&format!("{key}.bodies"), name)?]),
+            }
+        };
+        let (aa, bb) = (matching(&p.bodies[0])?, matching(&p.bodies[1])?);
+        let pair_law = law(&key, p.law, p.mu, p.strength)?;
+        for &a in &aa {
+            for &b in &bb {
+                if a == b {
+                    return Err(InputError::new(
+                        format!("{key}.bodies"),
+                        format!("{:?}", p.bodies),
+                        "must name two different bodies",
+                    ));
+                }
+                contact.set(a, b, pair_law);
+            }
         }
-        contact.set(a, b, law(&key, p.law, p.mu, p.strength)?);
     }
     if contact.distinct() > 255 {
         return Err(InputError::new(

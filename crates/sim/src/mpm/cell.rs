@@ -90,6 +90,16 @@ pub fn locks(rows: &[Row], threshold: f64) -> Vec<Lock> {
     out
 }
 
+/// The `q` quantile of `v` (nearest rank; NaN if empty).
+fn percentile(v: &[f64], q: f64) -> f64 {
+    let mut s: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    if s.is_empty() {
+        return f64::NAN;
+    }
+    s.sort_unstable_by(f64::total_cmp);
+    s[((s.len() - 1) as f64 * q).round() as usize]
+}
+
 /// The record of the cell.
 #[derive(Clone, Debug)]
 pub struct Cell {
@@ -240,16 +250,20 @@ impl Cell {
                 snapshot(sim, self.strain(), |i| bond[i]),
             ));
         }
-        if let Some(f) = self.first_lock.take() {
+        if let Some(mut f) = self.first_lock.take() {
             let l = locks(&self.rows, self.threshold);
             let at = l.first().map_or(f64::NAN, |l| l.peak_strain);
+            // A few points at the contacts carry several times the rest: the colours
+            // stop at the 99th percentile so that the chains between them show.
+            let top = percentile(&f.value, 0.99);
+            f.value.iter_mut().for_each(|v| *v = v.min(top));
             self.maps.push((
                 "lock_first.png".into(),
                 format!(
-                    "First lock (γ = {at:.3}, τ = {:.3e} Pa): principal stress difference",
+                    "First lock (γ = {at:.3}, τ = {:.3e} Pa): σ1 − σ2, colours capped at its 99th percentile",
                     f.strain
                 ),
-                "σ1 − σ2 (Pa)".into(),
+                "principal stress difference σ1 − σ2 (Pa)".into(),
                 f,
             ));
         }

@@ -63,6 +63,7 @@ pub fn cost(n: u64, nodes: u64, branches: u64, steps: u64, threads: usize) -> Es
 
 /// What `grains check` prints for an MPM scenario.
 pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, String> {
+    let s = &super::packing::expanded(s, src)?;
     fits(s, src, threads)?;
     let a = prepare(s, src)?;
     let setup = &a.setup;

@@ -11,6 +11,7 @@ pub mod debond;
 pub mod drive;
 pub mod exchange;
 pub mod frames;
+pub mod packing;
 pub mod plots;
 pub mod probes;
 pub mod reference;

@@ -9,6 +9,9 @@ use grains_core::plot::{time_label, LinePlot, Outline, ParticleMap, Series};
 use grains_mpm::{Geometry, Setup};
 use std::path::Path;
 
+/// Most bodies that get a motion and a rotation plot each.
+pub const MOTION_PLOTS: usize = 24;
+
 /// The points at one moment, coloured by a value.
 #[derive(Clone, Debug, Default)]
 pub struct Snapshot {
@@ -85,7 +88,9 @@ pub fn write_all(
         &t,
         &[("x", px.clone()), ("y", py.clone()), ("|p|", mag)],
     )?;
-    for b in &setup.bodies {
+    // One plot per body helps with a few bodies, not with a packing of hundreds.
+    let few = setup.bodies.len() <= MOTION_PLOTS;
+    for b in setup.bodies.iter().filter(|_| few) {
         let n = &b.name;
         line(
             dir,

@@ -203,6 +203,7 @@ pub fn prepare(s: &Scenario, src: &Source) -> Result<Assembled, String> {
                 )
             })?;
             let rs: Scenario = grains_core::input::parse_toml(&r.text, &r.origin)?;
+            let rs = super::packing::expanded(&rs, &r)?;
             let ra = assemble(&rs).map_err(|e| format!("{}: {e}", r.origin))?;
             if !ra.setup.bodies.iter().any(|b| &b.name == body) {
                 return Err(format!(
@@ -217,6 +218,7 @@ pub fn prepare(s: &Scenario, src: &Source) -> Result<Assembled, String> {
 
 /// Runs `s` (read from `src`) into `opts.out`.
 pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished, RunError> {
+    let s = &super::packing::expanded(s, src).map_err(RunError::Input)?;
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
     let a = prepare(s, src).map_err(RunError::Input)?;
     let out = opts.out.clone();
@@ -301,6 +303,7 @@ pub fn reference_loss(path: &Path, body: &str, k: usize) -> anyhow::Result<f64> 
     let src = Source::read(path).map_err(anyhow::Error::msg)?;
     let s: Scenario =
         grains_core::input::parse_toml(&src.text, &src.origin).map_err(anyhow::Error::msg)?;
+    let s = super::packing::expanded(&s, &src).map_err(anyhow::Error::msg)?;
     let a = assemble(&s).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let b = a
         .setup

@@ -32,6 +32,9 @@ pub struct Scenario {
     /// Bodies.
     #[serde(rename = "body", default)]
     pub bodies: Vec<BodySpec>,
+    /// Packing files whose disks become bodies.
+    #[serde(rename = "packing", default)]
+    pub packings: Vec<super::packing::PackingSpec>,
     /// Contact law between bodies.
     #[serde(default)]
     pub contact: ContactSpec,

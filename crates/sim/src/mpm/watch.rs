@@ -90,7 +90,12 @@ impl<'a> Watch<'a> {
         Watch {
             record,
             response,
-            debond: Debond::new(sim, &scenario.checks, &a.geometry),
+            // A sheared cell reports its own debonding (against strain).
+            debond: if scenario.shear.is_some() {
+                None
+            } else {
+                Debond::new(sim, &scenario.checks, &a.geometry)
+            },
             cell: scenario
                 .shear
                 .as_ref()
