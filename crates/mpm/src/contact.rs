@@ -4,9 +4,11 @@
 //! Coulomb's μ times the normal change. The normal of body b is colinear with the other
 //! bodies' (n_b ∝ g_b − g_rest), so two bodies get equal and opposite corrections and
 //! momentum is conserved. Rigid bodies take the place of the centre of mass, and their
-//! mass gradient gives the normal. The domain
-//! edges are walls with exact normals and the same law. Bonded pairs follow
-//! [`crate::bond`].
+//! mass gradient gives the normal. Here each free body corrects its own patch at the nodes
+//! it shares with one other free body; nodes where more meet, or a rigid body meets
+//! another, are resolved pair by pair in [`crate::crowd`] (unless the lumped rule is
+//! asked for). The domain edges are walls with exact normals and the same law. Bonded
+//! pairs follow [`crate::bond`].
 
 use crate::bond;
 use crate::grid::{Grid, Rows, GHOST};

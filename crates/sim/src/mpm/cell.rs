@@ -1,8 +1,9 @@
 //! A cell sheared between two rigid boundaries (`[shear]`, the paper's Figs. 6–8): per
 //! sample the shear strain, the shear and normal stresses on each boundary (its bodies'
 //! contact reactions over its length), the grains' debonded length and the energy
-//! ledger; at the end the locking events (rises of the shear stress above a stated
-//! threshold, with their peak and strain), the inertial number, and the maps a reader of
+//! ledger; at the end the locking events (both boundaries' shear stresses above a stated
+//! threshold: a chain of grains spans the cell; with their peak and strain), the inertial
+//! number, and the maps a reader of
 //! the paper compares with its figures: the bodies at the start and the end (Fig. 6), the
 //! principal stress difference at the first lock (Fig. 7), the bond early on and at the
 //! end (Fig. 8).
@@ -43,16 +44,24 @@ impl Row {
     pub fn pressure(&self) -> f64 {
         -0.5 * (self.sigma[0] + self.sigma[1])
     }
+
+    /// The lesser of the two boundaries' shear stresses: high only while a chain of
+    /// grains carries the load from one boundary to the other (a grain that merely hits
+    /// one boundary loads that one alone).
+    pub fn spanning(&self) -> f64 {
+        self.tau[0].min(self.tau[1])
+    }
 }
 
-/// A locking event: the mean shear stress above the threshold from `start` to `end`.
+/// A locking event: both boundaries' shear stresses above the threshold from `start`
+/// to `end` ([`Row::spanning`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Lock {
     /// Strain where the stress rose above the threshold.
     pub start: f64,
     /// Strain at the peak.
     pub peak_strain: f64,
-    /// The peak mean shear stress (Pa).
+    /// The peak mean shear stress of the two boundaries (Pa).
     pub peak: f64,
     /// Strain where it fell back (the last sample if it never did).
     pub end: f64,
@@ -66,7 +75,7 @@ pub fn locks(rows: &[Row], threshold: f64) -> Vec<Lock> {
     let mut open = false;
     for r in rows {
         let tau = r.shear();
-        if tau > threshold {
+        if r.spanning() > threshold {
             if !open {
                 out.push(Lock {
                     start: r.gamma,
@@ -178,6 +187,30 @@ impl Cell {
         )
     }
 
+    /// The binder's points coloured by their bond (the paper's Fig. 8), the grains grey.
+    fn bond_map(
+        &self,
+        sim: &Mpm,
+        file: &str,
+        when: &str,
+        gamma: f64,
+    ) -> (String, String, String, Snapshot) {
+        let p = &sim.state.particles;
+        let binder = self.binder.map(|b| b as u16);
+        (
+            file.into(),
+            format!("Binder's bond {when} (γ = {gamma:.2}); 0 = debonded, grains grey"),
+            "bond strength (Pa)".into(),
+            snapshot(sim, gamma, |i| {
+                if Some(p.body[i]) == binder {
+                    p.bond[i]
+                } else {
+                    f64::NAN
+                }
+            }),
+        )
+    }
+
     fn strain(&self) -> f64 {
         self.rows.last().map_or(0.0, |r| r.gamma)
     }
@@ -205,23 +238,14 @@ impl Cell {
             self.rows.last().is_some_and(|r| r.gamma < EARLY_STRAIN) && row.gamma >= EARLY_STRAIN;
         self.rows.push(row);
         if early && self.binder.is_some() {
-            let bond = &sim.state.particles.bond;
-            self.maps.push((
-                "bond_early.png".into(),
-                format!(
-                    "Bond strength early on (γ = {:.2}); 0 = debonded",
-                    row.gamma
-                ),
-                "bond strength (Pa)".into(),
-                snapshot(sim, row.gamma, |i| bond[i]),
-            ));
+            self.maps.push(self.bond_map(sim, "bond_early.png", "early on", row.gamma));
         }
         // The first lock: keep the points at its highest stress until it is over.
         if self.first_over {
             return;
         }
         let tau = row.shear();
-        if tau > self.threshold {
+        if row.spanning() > self.threshold {
             let higher = self.first_lock.as_ref().is_none_or(|f| tau > f.strain);
             if higher {
                 let st = &sim.state.particles.stress;
@@ -239,16 +263,8 @@ impl Cell {
         let end = self.bodies_map(sim, "cell_final.png", "end");
         self.maps.push(end);
         if self.binder.is_some() {
-            let bond = &sim.state.particles.bond;
-            self.maps.push((
-                "bond_final.png".into(),
-                format!(
-                    "Bond strength at the end (γ = {:.2}); 0 = debonded",
-                    self.strain()
-                ),
-                "bond strength (Pa)".into(),
-                snapshot(sim, self.strain(), |i| bond[i]),
-            ));
+            let map = self.bond_map(sim, "bond_final.png", "at the end", self.strain());
+            self.maps.push(map);
         }
         if let Some(mut f) = self.first_lock.take() {
             let l = locks(&self.rows, self.threshold);
@@ -346,7 +362,7 @@ impl Cell {
                     ("left boundary".into(), g.clone(), col(&|r| r.tau[0])),
                     ("right boundary".into(), g.clone(), col(&|r| r.tau[1])),
                     ("mean".into(), g.clone(), col(&|r| r.shear())),
-                    ("locking threshold".into(), g.clone(), line(self.threshold)),
+                    ("lock threshold (both boundaries above it)".into(), g.clone(), line(self.threshold)),
                 ],
                 log_y: false,
             },
@@ -413,7 +429,7 @@ mod tests {
 
     #[test]
     fn locks_are_excursions_above_the_threshold() {
-        let rows: Vec<Row> = [0.0, 2.0, 5.0, 3.0, 0.5, 4.0, 6.0]
+        let mut rows: Vec<Row> = [0.0, 2.0, 5.0, 3.0, 0.5, 4.0, 6.0]
             .iter()
             .enumerate()
             .map(|(k, &tau)| Row {
@@ -423,6 +439,8 @@ mod tests {
                 ..Default::default()
             })
             .collect();
+        // A grain hitting one boundary alone is no lock.
+        rows[4].tau = [9.0, 0.5];
         let l = locks(&rows, 1.0);
         assert_eq!(l.len(), 2);
         assert_eq!((l[0].start, l[0].peak, l[0].end), (0.1, 5.0, 0.4));

@@ -130,8 +130,11 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
         })
         .collect();
     if !bonds.is_empty() {
+        // A packing bonds hundreds of grains: the first pairs, then how many more.
+        const SHOWN: usize = 6;
         let text: Vec<String> = bonds
             .iter()
+            .take(SHOWN)
             .map(|b| {
                 format!(
                     "{}–{}: {:e} Pa, then μ = {}",
@@ -142,7 +145,12 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
                 )
             })
             .collect();
-        d.lines.push(Line::new("bonds", bonds, text.join("; ")));
+        let more = match bonds.len().saturating_sub(SHOWN) {
+            0 => String::new(),
+            n => format!("; and {n} more pairs"),
+        };
+        d.lines
+            .push(Line::new("bonds", bonds, text.join("; ") + &more));
     }
     let c = setup
         .materials

@@ -64,9 +64,10 @@ pub struct ShearSpec {
     pub left: Vec<String>,
     /// The rigid bodies that make up the right boundary.
     pub right: Vec<String>,
-    /// A locking event is a rise of the mean shear stress on the boundaries above this
-    /// (Pa); its peak stress and strain are reported, and the points at the first
-    /// event's peak are drawn (the force chains of Fig. 7).
+    /// A locking event: the shear stresses on both boundaries above this (Pa), i.e. a
+    /// chain of grains carrying the load across the cell; its peak (mean of the two) and
+    /// strain are reported, and the points at the first event's peak are drawn (the force
+    /// chains of Fig. 7).
     pub lock_threshold: f64,
     /// The binder, if any: the grains' debonded length is the length of its interface
     /// that has debonded.
