@@ -99,7 +99,10 @@ fn shear_cells_small() {
         assert!(impulse > 0.0 && imbalance <= 1e-12 * impulse, "{e}: {f}");
         assert!(f["shear_stress_max"].as_f64().unwrap() > 0.0, "{e}: {f}");
         if !e.contains("dry") {
-            assert!(f["debonded_length_final"].as_f64().unwrap() > 0.0, "{e}: {f}");
+            assert!(
+                f["debonded_length_final"].as_f64().unwrap() > 0.0,
+                "{e}: {f}"
+            );
         }
     }
 }

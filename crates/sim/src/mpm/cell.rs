@@ -238,7 +238,8 @@ impl Cell {
             self.rows.last().is_some_and(|r| r.gamma < EARLY_STRAIN) && row.gamma >= EARLY_STRAIN;
         self.rows.push(row);
         if early && self.binder.is_some() {
-            self.maps.push(self.bond_map(sim, "bond_early.png", "early on", row.gamma));
+            self.maps
+                .push(self.bond_map(sim, "bond_early.png", "early on", row.gamma));
         }
         // The first lock: keep the points at its highest stress until it is over.
         if self.first_over {
@@ -362,7 +363,11 @@ impl Cell {
                     ("left boundary".into(), g.clone(), col(&|r| r.tau[0])),
                     ("right boundary".into(), g.clone(), col(&|r| r.tau[1])),
                     ("mean".into(), g.clone(), col(&|r| r.shear())),
-                    ("lock threshold (both boundaries above it)".into(), g.clone(), line(self.threshold)),
+                    (
+                        "lock threshold (both boundaries above it)".into(),
+                        g.clone(),
+                        line(self.threshold),
+                    ),
                 ],
                 log_y: false,
             },
