@@ -49,26 +49,36 @@ fn main() {
     );
     let set = ParticleSet::new(&ring.pos, &vel, &ring.radius, &ring.mass, &ring.id).unwrap();
     let c = Contacts::new(&i, &j, &f, set.len()).unwrap();
+    // What runs and frames carry: each grain's Σ a ⊗ f, half the branch as each arm.
+    let mut moments = vec![glam::DMat2::ZERO; set.len()];
+    for k in 0..i.len() {
+        let (a, b) = (i[k] as usize, j[k] as usize);
+        let half = 0.5 * (ring.pos[b] - ring.pos[a]);
+        let m = glam::DMat2::from_cols(half * f[k].x, half * f[k].y);
+        moments[a] += m;
+        moments[b] += m;
+    }
     let spec = DispersalSpec::default();
     let plain = DispersalSpec {
         kernel_width: 0.0,
         ..spec
     };
     let mut last = None;
-    for (name, s) in [
-        ("plain bins", plain),
-        ("hat kernel, w = d0 (default)", spec),
+    for (name, s, source) in [
+        ("plain bins, contacts", plain, StressSource::Contacts(c)),
+        (
+            "hat kernel w = d0 (default), contacts",
+            spec,
+            StressSource::Contacts(c),
+        ),
+        (
+            "hat kernel w = d0, per-grain stress (as runs and frames give it)",
+            spec,
+            StressSource::Particles(&moments),
+        ),
     ] {
         let (secs, a) = best_of(3, || {
-            analyze_frame(
-                &s,
-                DVec2::ZERO,
-                d0,
-                10e-6,
-                &set,
-                Some(StressSource::Contacts(c)),
-            )
-            .unwrap()
+            analyze_frame(&s, DVec2::ZERO, d0, 10e-6, &set, Some(source)).unwrap()
         });
         println!(
             "analyze_frame, {name} (fields + stress, band split, fronts, profiles, shear bands): \

@@ -87,16 +87,24 @@ enum Command {
         threads: Option<usize>,
     },
     /// Analyse a packing file (`x y r`) or a DEM frame (.vtp): psi6, contacts, fabric,
-    /// sizes.
+    /// sizes. Given a run directory of a ring (FEM–DEM, or DEM with [dispersal]): the
+    /// dispersal analysis of its frames (fields, fronts, band/spall, shear bands, jets,
+    /// the ring models).
     Analyze {
-        /// Packing file or VTP frame.
+        /// Packing file, VTP frame, or run directory.
         file: PathBuf,
-        /// Output directory (default: runs/analyze_<file stem>).
+        /// Output directory (default: runs/analyze_<file stem>; RUN_DIR/analysis for a
+        /// run directory).
         #[arg(long)]
         out: Option<PathBuf>,
         /// Print the figures as JSON.
         #[arg(long)]
         json: bool,
+        /// Run directory only: draw the polar maps at the frames nearest these times
+        /// (s) (default: the scenario's `[analysis.dispersal] times`, or the last
+        /// frame). Every frame is analysed either way.
+        #[arg(long, value_delimiter = ',', num_args = 1..)]
+        times: Option<Vec<f64>>,
     },
     /// Measure speed; prints `particle-steps/s: X` last.
     Bench {
@@ -183,7 +191,12 @@ fn main() -> ExitCode {
             threads,
         } => cmd_check(&scenario, json, threads),
         Command::Pack { spec, out, threads } => cmd_pack(&spec, out, threads),
-        Command::Analyze { file, out, json } => cmd_analyze(&file, out, json),
+        Command::Analyze {
+            file,
+            out,
+            json,
+            times,
+        } => cmd_analyze(&file, out, json, times.as_deref()),
         Command::Bench { what } => cmd_bench(what),
     };
     result.unwrap_or_else(|(code, msg)| fail(code, &msg))
@@ -353,7 +366,35 @@ fn cmd_pack(
     Ok(ExitCode::SUCCESS)
 }
 
-fn cmd_analyze(file: &Path, out: Option<PathBuf>, json: bool) -> Result<ExitCode, Failure> {
+fn cmd_analyze(
+    file: &Path,
+    out: Option<PathBuf>,
+    json: bool,
+    times: Option<&[f64]>,
+) -> Result<ExitCode, Failure> {
+    use grains_sim::dispersal::run_dir;
+    if run_dir::is_run_dir(file) {
+        let out = out.unwrap_or_else(|| file.join("analysis"));
+        let figures = run_dir::analyze_run(file, &out, times).map_err(input)?;
+        if json {
+            let v = serde_json::Value::Object(figures);
+            println!("{}", serde_json::to_string_pretty(&v).map_err(input)?);
+        } else {
+            print!("{}", run_dir::main_figures(&figures));
+            eprintln!(
+                "grains: dispersal analysis of {} written to {}",
+                file.display(),
+                out.display()
+            );
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    if times.is_some() {
+        return Err(input(format!(
+            "--times: only for a run directory, and {} is a file",
+            file.display()
+        )));
+    }
     let stem = file
         .file_stem()
         .map(|s| s.to_string_lossy().to_string())

@@ -219,3 +219,110 @@ fn elastic_ring_keeps_the_charges_work() {
     assert_eq!(s["checks"][0]["name"], "ring_energy_transfer_error");
     assert_eq!(s["checks"][0]["pass"], true, "{}", s["checks"][0]);
 }
+
+/// The tiny ring with `[analysis.dispersal]`: fields, maps, fronts, profiles, jets, the
+/// models and the energy ledger are written; `grains analyze RUN_DIR` on its frames
+/// gives the same figures at every frame (the frames carry each grain's mass and contact
+/// stress); bad settings are refused with their key.
+#[test]
+fn dispersal_analysis_inline_and_from_the_frames() {
+    let text = format!(
+        "{RING}\n[analysis.dispersal]\ntimes = [2.0e-6]\nevery = 0.5e-6\n\
+         [analysis.dispersal.band]\nmin_grains = 20\n"
+    );
+    let (out, dir) = run_text(&text, &[], &[]);
+    assert_eq!(out.code, 0, "{}", out.stderr);
+    let s = summary(dir.path());
+    let f = &s["figures"];
+    let d = &f["dispersal"];
+    let frames = d["frames"].as_array().unwrap();
+    // Frames at 0, 1.5, 2 and 3 µs, and samples every 0.5 µs besides.
+    assert_eq!(frames.len(), 7);
+    assert!(d["final"]["band_fraction"].as_f64().is_some(), "{d}");
+    assert!(d["final"]["band_velocity"]["status"].is_string(), "{d}");
+    assert!(
+        d["fronts"].is_object() && d["jets"]["count"].is_u64(),
+        "{d}"
+    );
+    assert!(frames
+        .iter()
+        .any(|r| r["pressure_front"].as_f64().is_some()));
+    let m = &f["models"];
+    let (gurney, lossless) = (
+        m["classic_gurney"].as_f64().unwrap(),
+        m["lossless_ceiling"]["velocity"].as_f64().unwrap(),
+    );
+    assert!(lossless > 0.0 && lossless < gurney, "{m}");
+    assert_eq!(m["compaction"].as_array().unwrap().len(), 2);
+    let l = &f["energy_ledger"];
+    let work = l["work_on_ring"].as_f64().unwrap();
+    for k in ["contact_damping", "contact_friction", "contact_stored"] {
+        assert!(l[k].as_f64().unwrap() > 0.0, "{k}: {l}");
+    }
+    assert!(
+        l["unaccounted"].as_f64().unwrap().abs() < 0.05 * work,
+        "{l}"
+    );
+    let run = dir.path().join("out");
+    for p in [
+        "frames/fields.pvd",
+        "frames/fields_00000.vts",
+        "plots/dispersal/fronts.png",
+        "plots/dispersal/radial_phi.png",
+        "plots/dispersal/jets.png",
+        "plots/dispersal/t_0002.00us/t_ring_shear_rate.png",
+        "plots/dispersal/t_0002.00us/t_ring_pressure.png",
+        "plots/dispersal/t_0002.00us/band_spectra.png",
+        "plots/ring_energy.png",
+    ] {
+        assert!(run.join(p).exists(), "missing {p}");
+    }
+    let vtp = std::fs::read(run.join("frames/particles_00001.vtp")).unwrap();
+    let head = String::from_utf8_lossy(&vtp[..vtp.len().min(4000)]);
+    for a in ["Name=\"mass\"", "Name=\"stress\" NumberOfComponents=\"9\""] {
+        assert!(head.contains(a), "{a}: {head}");
+    }
+
+    let o = grains(&["analyze", run.to_str().unwrap(), "--json"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let a: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
+    let again = a["dispersal"]["frames"].as_array().unwrap();
+    let with_files: Vec<&serde_json::Value> = frames
+        .iter()
+        .filter(|r| !r["fields_file"].is_null())
+        .collect();
+    assert_eq!(again.len(), with_files.len());
+    for (x, y) in with_files.iter().zip(again) {
+        for k in [
+            "time",
+            "r_in",
+            "r_out",
+            "pressure_front",
+            "split",
+            "shear_bands",
+        ] {
+            assert_eq!(x[k], y[k], "{k} at {}", x["time"]);
+        }
+    }
+    assert!(run.join("analysis/analysis.json").exists());
+    assert!(run.join("analysis/plots/dispersal/fronts.png").exists());
+    let o = grains(&["analyze", run.to_str().unwrap(), "--times", "3e-6"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(run
+        .join("analysis/plots/dispersal/t_0003.00us/t_ring_phi.png")
+        .exists());
+
+    let bad = format!("{RING}\n[analysis.dispersal]\ntimes = [5.0e-6]\n");
+    let (out, dir) = run_text(&bad, &[], &[]);
+    assert_refused(&out, dir.path(), &["analysis.dispersal.times[0]", "5e-6"]);
+    let check = "\n[[check]]\nkind = \"shear_band_mode\"\nmode = 6\nfrom = 1e-6\nto = 2e-6\n";
+    let (out, dir) = run_text(&format!("{RING}{check}at_least = 0.5\n"), &[], &[]);
+    assert_refused(
+        &out,
+        dir.path(),
+        &["shear_band_mode", "[analysis.dispersal]"],
+    );
+    let both = format!("{RING}\n[analysis.dispersal]\n{check}at_least = 0.5\nat_most = 0.9\n");
+    let (out, dir) = run_text(&both, &[], &[]);
+    assert_refused(&out, dir.path(), &["at_least/at_most", "exactly one"]);
+}

@@ -41,6 +41,8 @@ pub struct Coupling {
     pub contacts: usize,
     /// Largest penetration over the particle radius at the last evaluation.
     pub max_penetration_ratio: f64,
+    /// The contact of that largest penetration, if any.
+    pub deepest: Option<Deepest>,
     /// Energy stored in the penalty springs (J/m).
     pub energy: f64,
     /// Force of the charge on the particles at the last evaluation (N/m), radial sum.
@@ -50,8 +52,13 @@ pub struct Coupling {
     omega2_max: f64,
     /// Scratch: each node's Gershgorin row sum.
     node_row: Vec<f64>,
-    /// Each boundary edge's length when the run started.
-    rest_length: Vec<f64>,
+    /// Scratch: the length of edge the grains on each node cover (m).
+    cover: Vec<f64>,
+    /// Scratch: the contacts of this evaluation (particle, edge, contact, at a corner).
+    hits: Vec<(u32, u32, Touch, bool)>,
+    /// Each boundary node's length of edge when the run started: half of each of its
+    /// two edges (m).
+    node_length: Vec<f64>,
 }
 
 impl Coupling {
@@ -133,73 +140,109 @@ impl Coupling {
 
     /// Fine detection and forces: adds the penalty force to `p.force` and sets the
     /// charge's external nodal forces to the reactions.
+    ///
+    /// K_pe is the stiffness of a grain on the charge's edge as meshed. As the products
+    /// expand, the boundary edges lengthen several-fold and a node comes to carry many
+    /// grains: at a fixed K_pe per grain its springs add up and its stable step shrinks
+    /// (test 2: from 2.27 to 0.83 ns). So each node may carry springs over at most the
+    /// length of edge it had at the start, `l0` (the mean of its two edges' initial
+    /// lengths): the grains on it cover `c` = Σ w·d (w the node's share of a grain's
+    /// reaction, d the grain's diameter), and their springs get K_pe·min(1, l0/c). On
+    /// an edge covered end to end, c is the edge's length l, and this is K_pe·l0/l. A
+    /// few grains on a long edge (the tip of a finger of gas between grains, whose
+    /// edges stretch a hundred-fold) keep the full K_pe, which the edge's length alone
+    /// would have softened until a fast node drove through them.
     pub fn forces(&mut self, c: &mut Charge, p: &mut Particles) {
         for f in c.nodes.f_ext.iter_mut() {
             *f = DVec2::ZERO;
         }
+        let nodes = c.nodes.pos.len();
         self.node_row.clear();
-        self.node_row.resize(c.nodes.pos.len(), 0.0);
+        self.node_row.resize(nodes, 0.0);
+        self.cover.clear();
+        self.cover.resize(nodes, 0.0);
         let (mut row_owner, mut particle_row, mut particle_max) = (usize::MAX, 0.0f64, 0.0f64);
         self.contacts = 0;
         self.max_penetration_ratio = 0.0;
+        self.deepest = None;
         self.energy = 0.0;
         self.radial_force = 0.0;
         let nb_edges = c.boundary.len();
-        if self.rest_length.len() != nb_edges {
-            self.rest_length = c
-                .boundary
-                .iter()
-                .map(|e| (c.nodes.pos[e[1] as usize] - c.nodes.pos[e[0] as usize]).length())
-                .collect();
+        if self.node_length.len() != nodes {
+            self.node_length = vec![0.0; nodes];
+            for e in &c.boundary {
+                let l = (c.nodes.pos[e[1] as usize] - c.nodes.pos[e[0] as usize]).length();
+                self.node_length[e[0] as usize] += 0.5 * l;
+                self.node_length[e[1] as usize] += 0.5 * l;
+            }
         }
+        // Fine detection, and the length of edge each node's grains cover.
+        self.hits.clear();
         for &(i, e) in &self.candidates {
+            let (iu, eu) = (i as usize, e as usize);
+            let [na, nb] = c.boundary[eu];
+            let (a, b) = (c.nodes.pos[na as usize], c.nodes.pos[nb as usize]);
+            let (x, r) = (p.pos[iu], p.radius[iu]);
+            let apex = c.nodes.pos[self.apex[eu] as usize];
+            let (hit, at_corner) = match touch(x, r, a, b, apex) {
+                Some(h) => (h, false),
+                None => {
+                    // The edge's first node, where the edge before it ends.
+                    let before = c.boundary[(eu + nb_edges - 1) % nb_edges][0];
+                    match corner(x, r, c.nodes.pos[before as usize], a, b) {
+                        Some(h) => (h, true),
+                        None => continue,
+                    }
+                }
+            };
+            let d = 2.0 * r;
+            self.cover[na as usize] += (1.0 - hit.at) * d;
+            self.cover[nb as usize] += hit.at * d;
+            self.hits.push((i, e, hit, at_corner));
+        }
+        for &(i, e, hit, at_corner) in &self.hits {
             let (i, e) = (i as usize, e as usize);
             let [na, nb] = c.boundary[e];
-            let (a, b) = (c.nodes.pos[na as usize], c.nodes.pos[nb as usize]);
-            let (x, r) = (p.pos[i], p.radius[i]);
-            let apex = c.nodes.pos[self.apex[e] as usize];
-            let hit = touch(x, r, a, b, apex).or_else(|| {
-                // The edge's first node, where the edge before it ends.
-                let before = c.boundary[(e + nb_edges - 1) % nb_edges][0];
-                corner(x, r, c.nodes.pos[before as usize], a, b)
-            });
-            let Some(hit) = hit else {
-                continue;
-            };
-            // K_pe is the stiffness of a grain on an edge of its initial length; as the
-            // products expand and an edge lengthens, each of the grains it now carries
-            // gets K_pe·l0/l, so that a node's springs together stay as stiff as at the
-            // start (and the step with them), while the pressure that the springs must
-            // hold falls much faster than the edge lengthens.
-            let length = (b - a).length();
-            let k = if length > self.rest_length[e] {
-                self.stiffness * self.rest_length[e] / length
-            } else {
-                self.stiffness
-            };
+            let (na, nb) = (na as usize, nb as usize);
+            let mut ratio: f64 = 1.0;
+            for (n, w) in [(na, 1.0 - hit.at), (nb, hit.at)] {
+                if w > 0.0 {
+                    ratio = ratio.min(self.node_length[n] / self.cover[n]);
+                }
+            }
+            let k = self.stiffness * ratio;
             let f = k * hit.overlap * hit.normal;
             p.force[i] += f;
-            c.nodes.f_ext[na as usize] -= (1.0 - hit.at) * f;
-            c.nodes.f_ext[nb as usize] -= hit.at * f;
+            c.nodes.f_ext[na] -= (1.0 - hit.at) * f;
+            c.nodes.f_ext[nb] -= hit.at * f;
             // The spring couples the particle (weight 1) and the two nodes (weights
             // 1 − at and at): add |K w_r w_c|/√(m_r m_c) to each of the three rows.
-            let (ma, mb, mp) = (
-                c.nodes.mass[na as usize],
-                c.nodes.mass[nb as usize],
-                p.mass(i),
-            );
+            let (ma, mb, mp) = (c.nodes.mass[na], c.nodes.mass[nb], p.mass(i));
             let (wa, wb) = ((1.0 - hit.at).abs(), hit.at.abs());
             let (sa, sb, sp) = (wa / ma.sqrt(), wb / mb.sqrt(), 1.0 / mp.sqrt());
             let sum = sa + sb + sp;
-            self.node_row[na as usize] += k * sa * sum;
-            self.node_row[nb as usize] += k * sb * sum;
+            self.node_row[na] += k * sa * sum;
+            self.node_row[nb] += k * sb * sum;
             if i != row_owner {
                 particle_max = particle_max.max(particle_row);
                 (row_owner, particle_row) = (i, 0.0);
             }
             particle_row += k * sp * sum;
             self.contacts += 1;
-            self.max_penetration_ratio = self.max_penetration_ratio.max(hit.overlap / r);
+            let r = p.radius[i];
+            if hit.overlap / r > self.max_penetration_ratio {
+                self.max_penetration_ratio = hit.overlap / r;
+                let (a, b) = (c.nodes.pos[na], c.nodes.pos[nb]);
+                let l0 = self.node_length[na] + self.node_length[nb];
+                self.deepest = Some(Deepest {
+                    particle: i,
+                    edge: e,
+                    touch: hit,
+                    corner: at_corner,
+                    stretch: (b - a).length() / l0.max(f64::MIN_POSITIVE) * 2.0,
+                    stiffness: k,
+                });
+            }
             self.energy += 0.5 * k * hit.overlap * hit.overlap;
             self.radial_force += f.length();
         }
@@ -207,6 +250,23 @@ impl Coupling {
         let node_max = self.node_row.iter().copied().fold(0.0, f64::max);
         self.omega2_max = node_max.max(particle_max);
     }
+}
+
+/// The deepest contact of an evaluation: what a diagnostic needs to say where and why.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Deepest {
+    /// Particle index.
+    pub particle: usize,
+    /// Boundary edge index.
+    pub edge: usize,
+    /// The contact.
+    pub touch: Touch,
+    /// Whether it is the corner contact (node, not edge).
+    pub corner: bool,
+    /// The edge's length over the mean initial length of its nodes' edges.
+    pub stretch: f64,
+    /// The spring's stiffness (N/m).
+    pub stiffness: f64,
 }
 
 /// A particle touching an edge.

@@ -275,5 +275,8 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
         wall_loads,
         time: f64::from_bits(head[1]),
         step: head[0],
+        // The energy ledger is an optional measurement, not part of the snapshot: a
+        // resumed run that wants one starts it afresh.
+        ledger: None,
     })
 }

@@ -2,6 +2,7 @@
 
 use crate::contact::{PairParams, PairTable};
 use crate::domain::Image;
+use crate::ledger::{EnergyLedger, Off, On, PassTally, Tally};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
@@ -123,26 +124,52 @@ impl PairLookup for PairTable {
 /// its chunk (both sides of a pair are applied at once); an entry whose partner lies in
 /// another chunk keeps its force (`fpair`, `ftan`) for `walls_gather_kick` to add to the
 /// partner. Chunks are fixed, so the order of every sum is the same for any thread count.
-pub fn pair_contacts(setup: &Setup, p: &mut Particles, list: &mut ContactList, dt: f64) {
-    if setup.pairs.len() == 1 {
-        let uniform = Uniform(*setup.pairs.get(0, 0));
-        crate::with_image!(setup.domain, run::<Uniform>, (setup, &uniform, p, list, dt));
-    } else {
-        crate::with_image!(
-            setup.domain,
-            run::<PairTable>,
-            (setup, &setup.pairs, p, list, dt)
-        );
+/// With a `ledger`, the energy the contacts dissipate in this pass is added to it
+/// (see [`crate::ledger`]); the forces are the same either way.
+pub fn pair_contacts(
+    setup: &Setup,
+    p: &mut Particles,
+    list: &mut ContactList,
+    dt: f64,
+    ledger: Option<&mut EnergyLedger>,
+) {
+    match ledger {
+        None => {
+            dispatch::<Off>(setup, p, list, dt);
+        }
+        Some(l) => l.record(&dispatch::<On>(setup, p, list, dt)),
     }
 }
 
-fn run<L: PairLookup, const PX: bool, const PY: bool>(
+fn dispatch<T: Tally>(
+    setup: &Setup,
+    p: &mut Particles,
+    list: &mut ContactList,
+    dt: f64,
+) -> PassTally {
+    if setup.pairs.len() == 1 {
+        let uniform = Uniform(*setup.pairs.get(0, 0));
+        crate::with_image!(
+            setup.domain,
+            run::<Uniform, T>,
+            (setup, &uniform, p, list, dt)
+        )
+    } else {
+        crate::with_image!(
+            setup.domain,
+            run::<PairTable, T>,
+            (setup, &setup.pairs, p, list, dt)
+        )
+    }
+}
+
+fn run<L: PairLookup, T: Tally, const PX: bool, const PY: bool>(
     setup: &Setup,
     lookup: &L,
     p: &mut Particles,
     list: &mut ContactList,
     dt: f64,
-) {
+) -> PassTally {
     let n = p.len();
     let row = &list.row;
     // Split entry and particle arrays at chunk boundaries so each task owns its slices.
@@ -183,8 +210,25 @@ fn run<L: PairLookup, const PX: bool, const PY: bool>(
         inv_mass: &p.inv_mass,
         material: &p.material,
         dt,
+        tally: std::marker::PhantomData::<T>,
     };
-    jobs.into_par_iter().for_each(|mut job| ctx.chunk(&mut job));
+    if T::ON {
+        // Per chunk, then in chunk order: the same sum for any thread count.
+        let parts: Vec<PassTally> = jobs
+            .into_par_iter()
+            .map(|mut job| ctx.chunk(&mut job))
+            .collect();
+        let mut total = PassTally::default();
+        for part in parts {
+            total += part;
+        }
+        total
+    } else {
+        jobs.into_par_iter().for_each(|mut job| {
+            ctx.chunk(&mut job);
+        });
+        PassTally::default()
+    }
 }
 
 /// Touching pairs are processed in blocks of this many: first their geometry and inputs
@@ -195,7 +239,7 @@ const BLOCK: usize = 64;
 const _: () = assert!(BLOCK.is_power_of_two());
 
 /// Everything the pair pass reads.
-struct Ctx<'a, L, const PX: bool, const PY: bool> {
+struct Ctx<'a, L, T, const PX: bool, const PY: bool> {
     image: Image<PX, PY>,
     lookup: &'a L,
     row: &'a [u32],
@@ -207,6 +251,7 @@ struct Ctx<'a, L, const PX: bool, const PY: bool> {
     inv_mass: &'a [f64],
     material: &'a [u16],
     dt: f64,
+    tally: std::marker::PhantomData<T>,
 }
 
 /// The slices one task owns: its particles' rows, entries, forces and torques.
@@ -239,6 +284,16 @@ struct Block {
     ft: [f64; BLOCK],
 }
 
+/// The ledger's terms per pair of a block, and its chunk's sums (with the ledger only:
+/// the pass without it keeps the block as it was).
+struct Tallies {
+    damped: [f64; BLOCK],
+    slid: [f64; BLOCK],
+    /// ½K_n δ², ½K_t ξ² after and ½K_t ξ² before the pass.
+    stored: [[f64; 3]; BLOCK],
+    sum: PassTally,
+}
+
 impl Block {
     fn new() -> Box<Self> {
         Box::new(Block {
@@ -262,10 +317,11 @@ impl Block {
     }
 }
 
-impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
+impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, PY> {
     /// The rows of one chunk. Forces of pairs inside the chunk go straight onto both
     /// particles; pairs reaching into a later chunk leave their force in the entry.
-    fn chunk(&self, c: &mut Chunk) {
+    /// Returns the chunk's ledger terms (zero without the ledger).
+    fn chunk(&self, c: &mut Chunk) -> PassTally {
         let base = self.row[c.range.start] as usize;
         c.force.fill(DVec2::ZERO);
         c.torque.fill(0.0);
@@ -273,6 +329,14 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
         // The fill count lives in a register: kept in the block it would go through
         // memory on every entry, in one long dependent chain.
         let mut len = 0usize;
+        let mut tally = T::ON.then(|| {
+            Box::new(Tallies {
+                damped: [0.0; BLOCK],
+                slid: [0.0; BLOCK],
+                stored: [[0.0; 3]; BLOCK],
+                sum: PassTally::default(),
+            })
+        });
         for i in c.range.clone() {
             let (pi, ri) = (self.pos[i], self.radius[i]);
             for e in self.row[i] as usize..self.row[i + 1] as usize {
@@ -305,24 +369,35 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
                 len += touching as usize;
                 if len == BLOCK {
                     b.len = len;
-                    self.flush(&mut b, c);
+                    self.flush(&mut b, c, tally.as_deref_mut());
                     len = 0;
                 }
             }
         }
         b.len = len;
-        self.flush(&mut b, c);
+        self.flush(&mut b, c, tally.as_deref_mut());
+        tally.map_or_else(PassTally::default, |tl| tl.sum)
     }
 
     /// Runs the contact law over the block and scatters its forces.
-    fn flush(&self, b: &mut Block, c: &mut Chunk) {
+    fn flush(&self, b: &mut Block, c: &mut Chunk, mut tally: Option<&mut Tallies>) {
         self.gather(b);
         if L::UNIFORM {
             let p = *self.lookup.params(0, 0);
-            self.law(b, |_| p);
+            self.law(b, |_| p, tally.as_deref_mut());
         } else {
             let params = b.params;
-            self.law(b, |t| params[t]);
+            self.law(b, |t| params[t], tally.as_deref_mut());
+        }
+        if let (true, Some(tl)) = (T::ON, tally) {
+            let n = b.len.min(BLOCK);
+            tl.sum.damping += tl.damped[..n].iter().sum::<f64>();
+            tl.sum.friction += tl.slid[..n].iter().sum::<f64>();
+            for e in &tl.stored[..n] {
+                tl.sum.normal += e[0];
+                tl.sum.tangential += e[1];
+                tl.sum.tangential_before += e[2];
+            }
         }
         self.scatter(b, c);
     }
@@ -354,7 +429,12 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
     /// The contact law over the block's arrays: no branches and no indirection, so the
     /// loop vectorises.
     #[inline(always)]
-    fn law(&self, b: &mut Block, params: impl Fn(usize) -> PairParams) {
+    fn law(
+        &self,
+        b: &mut Block,
+        params: impl Fn(usize) -> PairParams,
+        mut tally: Option<&mut Tallies>,
+    ) {
         // The bound lets the compiler drop index checks, which would stop vectorisation.
         let n = b.len.min(BLOCK);
         for t in 0..n {
@@ -365,8 +445,9 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
             let q = 1.0 / (dist * b.inv_msum[t]);
             let inv_dist = q * b.inv_msum[t];
             let (nx, ny) = (b.dx[t] * inv_dist, b.dy[t] * inv_dist);
+            let pp = params(t);
             let f = contact_law(
-                &params(t),
+                &pp,
                 q * dist,
                 nx,
                 ny,
@@ -377,6 +458,26 @@ impl<L: PairLookup, const PX: bool, const PY: bool> Ctx<'_, L, PX, PY> {
                 b.xi[t],
                 self.dt,
             );
+            if let (true, Some(tl)) = (T::ON, tally.as_deref_mut()) {
+                // The law's own kinematics (see crate::ledger).
+                let vn = b.vx[t] * nx + b.vy[t] * ny;
+                let vt = (b.vy[t] * nx - b.vx[t] * ny) + b.spin[t];
+                let elastic = pp.kn * (b.rsum[t] - dist);
+                // Sliding resets the spring; the tangential work less the spring's
+                // change is then friction's, the capped dashpot's share included.
+                let sliding = (f.shear != b.xi[t] + vt * self.dt) as u8 as f64;
+                let (x0, x1) = (b.xi[t], f.shear);
+                let dash_t = pp.gamma_t * (q * dist) * vt * vt * self.dt;
+                tl.damped[t] = (f.normal - elastic) * vn * self.dt + (1.0 - sliding) * dash_t;
+                let overlap = b.rsum[t] - dist;
+                tl.stored[t] = [
+                    0.5 * elastic * overlap,
+                    0.5 * pp.kt * x1 * x1,
+                    0.5 * pp.kt * x0 * x0,
+                ];
+                tl.slid[t] =
+                    sliding * (pp.kt * (x1 * vt * self.dt - 0.5 * (x1 * x1 - x0 * x0)) + dash_t);
+            }
             // Force on i: −F_n n + F_t t, with t = (−n_y, n_x).
             b.fx[t] = -f.normal * nx - f.tangential * ny;
             b.fy[t] = -f.normal * ny + f.tangential * nx;

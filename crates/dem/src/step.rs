@@ -6,6 +6,7 @@
 
 use crate::forces::pair_contacts;
 use crate::integrate::{kick_drift, walls_gather_kick, WallLoad};
+use crate::ledger::EnergyLedger;
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
@@ -24,6 +25,8 @@ pub struct State {
     pub time: f64,
     /// Steps taken.
     pub step: u64,
+    /// The contacts' energy ledger, kept while `Some` (see [`crate::ledger`]).
+    pub ledger: Option<EnergyLedger>,
 }
 
 impl State {
@@ -35,7 +38,7 @@ impl State {
             ..Default::default()
         };
         s.contacts.rebuild(setup, &mut s.particles);
-        pair_contacts(setup, &mut s.particles, &mut s.contacts, 0.0);
+        pair_contacts(setup, &mut s.particles, &mut s.contacts, 0.0, None);
         s.wall_loads = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, 0.0, 0.0);
         s
     }
@@ -77,7 +80,13 @@ pub fn step_with<H: Hooks>(setup: &Setup, s: &mut State, dt: f64, hooks: &mut H)
         s.contacts.rebuild_within(setup, bounds, &mut s.particles);
     }
     hooks.post_neighbour(&s.particles, rebuilt);
-    pair_contacts(setup, &mut s.particles, &mut s.contacts, dt);
+    pair_contacts(
+        setup,
+        &mut s.particles,
+        &mut s.contacts,
+        dt,
+        s.ledger.as_mut(),
+    );
     hooks.post_force(&mut s.particles);
     s.wall_loads = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt);
     s.time += dt;

@@ -161,3 +161,45 @@ fn bitwise_identical_for_1_2_3_threads() {
         assert_same(&a, &run(t), &format!("{t} threads"));
     }
 }
+
+/// Keeping the energy ledger changes nothing in the run, and its figures do not depend
+/// on the thread count either.
+#[test]
+fn the_energy_ledger_changes_nothing() {
+    let go = |threads: usize, ledger: bool| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let (setup, p) = bed(3000);
+            let mut s = State::new(&setup, p);
+            if ledger {
+                s.ledger = Some(Default::default());
+            }
+            for _ in 0..500 {
+                step(&setup, &mut s, DT);
+            }
+            s
+        })
+    };
+    let plain = go(2, false);
+    let kept = go(2, true);
+    assert_same(&plain, &kept, "with the ledger");
+    assert_eq!(
+        grains_dem::diagnostics::state_hash(&plain),
+        grains_dem::diagnostics::state_hash(&kept)
+    );
+    let one = go(1, true);
+    assert_eq!(one.ledger, kept.ledger);
+    let l = kept.ledger.unwrap();
+    assert!(l.damping > 0.0 && l.friction > 0.0, "{l:?}");
+    // What the pass says the springs hold is what the state says.
+    let (setup, _) = bed(3000);
+    let now = grains_dem::EnergyLedger::starting(&setup, &kept);
+    assert!(
+        (now.stored() - l.stored()).abs() <= 1e-9 * l.stored(),
+        "{now:?} vs {l:?}"
+    );
+    assert!(l.stored_tangential > 0.0);
+}

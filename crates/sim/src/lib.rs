@@ -7,6 +7,8 @@
 //!   [`driver::Plan`] schedules samples, frames and checkpoints.
 //! * [`dem`], [`mpm`], [`blast`]: each engine's scenario, assembly, simulation and
 //!   observers; [`run`] runs any scenario the way `grains run` does.
+//! * [`dispersal`]: the dispersal analysis of a ring (xue-2019 §§4.2–5) during a run
+//!   and on a finished run's frames.
 //! * [`pack`], [`analyze`], [`bench`]: the packing generator's, the microstructure
 //!   analysis's and the benchmarks' front ends.
 //!
@@ -19,6 +21,7 @@ pub mod blast;
 pub mod check;
 pub mod checkpoint;
 pub mod dem;
+pub mod dispersal;
 pub mod driver;
 pub mod estimate;
 pub mod frames;

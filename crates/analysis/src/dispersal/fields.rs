@@ -14,7 +14,7 @@
 
 use super::gradient::{rates, velocity_gradient};
 use super::input::{ParticleSet, StressSource};
-use super::kernel::{gather, sector_reach, spread, Kernel, SectorIndex};
+use super::kernel::{gather, sector_reach, spread, Kernel, Pieces, SectorIndex};
 use super::polar::{Binning, PolarGrid, OUTSIDE};
 use super::stress::{stress_field, StressField};
 use glam::{DMat2, DVec2};
@@ -101,12 +101,15 @@ pub fn coarse_grain(
             .collect(),
         Kernel::Hat { half_width: w } => {
             let (index, reach) = sector_index(grid, particles, &binning, w);
+            let pieces = Pieces::new(particles.len(), |p, f| {
+                spread(grid, particles.pos[p as usize] - c0, w, f)
+            });
             gather(
                 grid,
                 &index,
                 reach,
                 BinSums::default(),
-                |p, f| spread(grid, particles.pos[p as usize] - c0, w, f),
+                |p, f| pieces.visit(p, f),
                 |acc, p, wt| acc.add(particles, c0, p as usize, wt),
             )
         }

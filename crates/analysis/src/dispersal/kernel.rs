@@ -157,6 +157,64 @@ pub(crate) fn sector_reach(grid: &PolarGrid, w: f64, offset: f64, r_inner: f64) 
     ((a / grid.dtheta()).ceil() as usize).min(half)
 }
 
+/// Each source's shares of the bins, spread once (CSR by source): [`gather`] visits a
+/// source from every sector its kernel can reach, and reading its shares back is much
+/// cheaper than spreading it again.
+pub(crate) struct Pieces {
+    start: Vec<u32>,
+    share: Vec<Share>,
+}
+
+/// One source's share of one bin: ring, sector, weight.
+type Share = (u32, u32, f64);
+
+/// Sources spread in fixed chunks, so the pieces are the same whatever the threads.
+const PIECE_CHUNK: usize = 4096;
+
+impl Pieces {
+    /// Spreads sources `0..n` with `visit` (calling back `(ring, sector, weight)`).
+    pub(crate) fn new<V>(n: usize, visit: V) -> Self
+    where
+        V: Fn(u32, &mut dyn FnMut(usize, usize, f64)) + Sync,
+    {
+        let parts: Vec<(Vec<u32>, Vec<Share>)> = (0..n.div_ceil(PIECE_CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                let range = c * PIECE_CHUNK..((c + 1) * PIECE_CHUNK).min(n);
+                let mut count = Vec::with_capacity(range.len());
+                let mut share = Vec::with_capacity(9 * range.len());
+                for src in range {
+                    let before = share.len();
+                    visit(src as u32, &mut |i, j, w| {
+                        share.push((i as u32, j as u32, w))
+                    });
+                    count.push((share.len() - before) as u32);
+                }
+                (count, share)
+            })
+            .collect();
+        let mut start = Vec::with_capacity(n + 1);
+        start.push(0u32);
+        let mut all = Vec::with_capacity(parts.iter().map(|p| p.1.len()).sum());
+        for (count, share) in parts {
+            for c in count {
+                start.push(start[start.len() - 1] + c);
+            }
+            all.extend(share);
+        }
+        Pieces { start, share: all }
+    }
+
+    /// Calls `f(ring, sector, weight)` for each share of source `src`.
+    #[inline]
+    pub(crate) fn visit(&self, src: u32, f: &mut dyn FnMut(usize, usize, f64)) {
+        let k = src as usize;
+        for &(i, j, w) in &self.share[self.start[k] as usize..self.start[k + 1] as usize] {
+            f(i as usize, j as usize, w);
+        }
+    }
+}
+
 /// Per-bin accumulators gathered sector by sector: for each sector `j`, every source
 /// anchored within `reach` sectors of it is spread with `visit` and the parts that land
 /// in sector `j` are added with `add`. The result is in flat bin order.

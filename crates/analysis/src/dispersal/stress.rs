@@ -19,7 +19,7 @@
 use super::fields::sector_index;
 use super::gradient::outer;
 use super::input::{Contacts, ParticleSet, StressSource};
-use super::kernel::{gather, sector_reach, spread, Kernel, SectorIndex};
+use super::kernel::{gather, sector_reach, spread, Kernel, Pieces, SectorIndex};
 use super::polar::{Binning, PolarGrid};
 use glam::{DMat2, DVec2};
 use rayon::prelude::*;
@@ -137,12 +137,15 @@ fn particle_sums_hat(
 ) -> Vec<DMat2> {
     let c0 = grid.centre();
     let (index, reach) = sector_index(grid, particles, binning, w);
+    let pieces = Pieces::new(particles.len(), |p, f| {
+        spread(grid, particles.pos[p as usize] - c0, w, f)
+    });
     gather(
         grid,
         &index,
         reach,
         DMat2::ZERO,
-        |p, f| spread(grid, particles.pos[p as usize] - c0, w, f),
+        |p, f| pieces.visit(p, f),
         |acc, p, wt| *acc += s[p as usize] * wt,
     )
 }
@@ -178,17 +181,18 @@ fn contact_sums_hat(grid: &PolarGrid, particles: &ParticleSet, c: Contacts, w: f
     };
     let index = SectorIndex::new(grid.n_theta(), &sector);
     let reach = sector_reach(grid, w, half_branch, r_inner);
+    let pieces = Pieces::new(c.len(), |k, f| {
+        let (a, b) = ends(k as usize);
+        for (t, g) in GAUSS {
+            spread(grid, a + t * (b - a), w, |i, j, wt| f(i, j, g * wt));
+        }
+    });
     gather(
         grid,
         &index,
         reach,
         DMat2::ZERO,
-        |k, f| {
-            let (a, b) = ends(k as usize);
-            for (t, g) in GAUSS {
-                spread(grid, a + t * (b - a), w, |i, j, wt| f(i, j, g * wt));
-            }
-        },
+        |k, f| pieces.visit(k, f),
         |acc, k, wt| *acc += branch_dyad(particles, &c, k as usize) * wt,
     )
 }

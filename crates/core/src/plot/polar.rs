@@ -173,16 +173,30 @@ impl PolarMap<'_> {
     }
 
     /// The value of the bin holding the point `p` (m, relative to the centre).
+    #[cfg(test)]
     fn value_at(&self, p: DVec2) -> f64 {
+        self.bin_at(p, &Rings::of(self.r_edges))
+            .map_or(f64::NAN, |k| self.values[k])
+    }
+
+    /// The bin holding the point `p` (m, relative to the centre), if any.
+    #[inline]
+    fn bin_at(&self, p: DVec2, rings: &Rings) -> Option<usize> {
         let r = p.length();
         let nr = self.r_edges.len().saturating_sub(1);
         if nr == 0 || self.n_theta == 0 || r < self.r_edges[0] || r >= self.r_edges[nr] {
-            return f64::NAN;
+            return None;
         }
-        let i = self.r_edges.partition_point(|&e| e <= r) - 1;
-        let a = p.y.atan2(p.x).rem_euclid(TAU);
+        let i = match rings.uniform {
+            // Equal rings (the dispersal grids): the ring is a division, not a search.
+            Some((r0, inv_dr)) => ((r - r0) * inv_dr) as usize,
+            None => self.r_edges.partition_point(|&e| e <= r) - 1,
+        };
+        // atan2 lies in [−π, π]: one add, not a floating-point remainder, per pixel.
+        let a = p.y.atan2(p.x);
+        let a = if a < 0.0 { a + TAU } else { a };
         let j = ((a / TAU * self.n_theta as f64) as usize).min(self.n_theta - 1);
-        self.values[j * nr + i.min(nr - 1)]
+        Some(j * nr + i.min(nr - 1))
     }
 
     fn draw_map(
@@ -224,17 +238,30 @@ impl PolarMap<'_> {
         let (pw, ph) = chart.plotting_area().dim_in_pixel();
         let mut buf = vec![255u8; (pw * ph * 3) as usize];
         let span = v1 - v0;
+        // A colour per bin, then per pixel only the bin it falls in.
+        let colours: Vec<Option<[u8; 3]>> = self
+            .values
+            .iter()
+            .map(|v| {
+                v.is_finite().then(|| {
+                    let c = self.colour((v - v0) / span);
+                    [c.0, c.1, c.2]
+                })
+            })
+            .collect();
+        let rings = Rings::of(self.r_edges);
         for py in 0..ph {
             let y = hy - (py as f64 + 0.5) / ph as f64 * 2.0 * hy;
             for px in 0..pw {
                 let x = -hx + (px as f64 + 0.5) / pw as f64 * 2.0 * hx;
-                let v = self.value_at(DVec2::new(x, y) / MM);
-                if !v.is_finite() {
+                let Some(c) = self
+                    .bin_at(DVec2::new(x, y) / MM, &rings)
+                    .and_then(|k| colours[k])
+                else {
                     continue;
-                }
-                let c = self.colour((v - v0) / span);
+                };
                 let k = ((py * pw + px) * 3) as usize;
-                buf[k..k + 3].copy_from_slice(&[c.0, c.1, c.2]);
+                buf[k..k + 3].copy_from_slice(&c);
             }
         }
         if let Some(img) = BitMapElement::with_owned_buffer((-hx, hy), (pw, ph), buf) {
@@ -312,6 +339,29 @@ fn circle_points(r: f64) -> Vec<(f64, f64)> {
             (r * a.cos(), r * a.sin())
         })
         .collect()
+}
+
+/// How to find a ring from a radius: equal rings by division, others by search.
+struct Rings {
+    /// Inner radius and 1/width, when every ring has the same width.
+    uniform: Option<(f64, f64)>,
+}
+
+impl Rings {
+    fn of(edges: &[f64]) -> Self {
+        let n = edges.len();
+        let uniform = (n >= 2).then(|| (edges[n - 1] - edges[0]) / (n - 1) as f64);
+        let uniform = uniform.filter(|dr| {
+            *dr > 0.0
+                && edges
+                    .iter()
+                    .enumerate()
+                    .all(|(k, e)| (e - (edges[0] + k as f64 * dr)).abs() <= 1e-9 * dr)
+        });
+        Rings {
+            uniform: uniform.map(|dr| (edges[0], 1.0 / dr)),
+        }
+    }
 }
 
 #[cfg(test)]

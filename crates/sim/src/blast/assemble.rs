@@ -174,12 +174,34 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, String> {
             "must be in (0, 1]",
         ));
     }
+    if let Some(d) = &a.dispersal {
+        if s.ring.is_none() {
+            return Err(err(
+                "analysis.dispersal",
+                "(a table)",
+                "needs a [ring]: a bare charge has no particles to analyse",
+            ));
+        }
+        d.validate("analysis.dispersal", s.run.duration)
+            .map_err(|e| e.to_string())?;
+    }
 
     let ring = match &s.ring {
         Some(_) => Some(ring_part(s, base, &fem, &mesh)?),
         None => None,
     };
     for (k, chk) in s.checks.iter().enumerate() {
+        if let CheckSpec::ShearBandMode {
+            mode,
+            from,
+            to,
+            at_least,
+            at_most,
+        } = chk
+        {
+            shear_band_mode_valid(s, k, *mode, (*from, *to), (*at_least, *at_most))?;
+            continue;
+        }
         let tol = chk.tolerance();
         if !(tol.is_finite() && tol > 0.0) {
             return Err(err(
@@ -218,7 +240,7 @@ pub fn assemble(s: &Scenario, base: &Path) -> Result<Assembled, String> {
                     ));
                 }
             }
-            CheckSpec::DetonationArrival { .. } => {}
+            CheckSpec::DetonationArrival { .. } | CheckSpec::ShearBandMode { .. } => {}
         }
     }
     Ok(Assembled {
@@ -361,6 +383,7 @@ fn ring_part(s: &Scenario, base: &Path, fem: &FemSetup, mesh: &Mesh) -> Result<R
         output: Default::default(),
         checks: Vec::new(),
         figures: Vec::new(),
+        dispersal: None,
     };
     // The DEM scenario names its own keys; say where they sit in this scenario. The
     // ring's material sits in `[ring]`, everything else in `[ring.packing]`.
@@ -467,4 +490,45 @@ fn fits_the_ring(s: &Scenario, p: &Particles, centre: DVec2) -> Result<(), Strin
         }
     }
     Ok(())
+}
+
+/// Checks a `shear_band_mode` check (the `k`-th).
+fn shear_band_mode_valid(
+    s: &Scenario,
+    k: usize,
+    mode: usize,
+    (from, to): (f64, f64),
+    bounds: (Option<f64>, Option<f64>),
+) -> Result<(), String> {
+    let key = |f: &str| format!("check[{k}].{f}");
+    if s.analysis.dispersal.is_none() {
+        return Err(err(
+            &key("kind"),
+            "\"shear_band_mode\"",
+            "needs an [analysis.dispersal] table",
+        ));
+    }
+    if mode < 2 {
+        return Err(err(&key("mode"), mode.to_string(), "must be at least 2"));
+    }
+    if !(from.is_finite() && to.is_finite() && 0.0 <= from && from < to) {
+        return Err(err(
+            &key("from/to"),
+            format!("{}/{}", shown(from), shown(to)),
+            "must satisfy 0 ≤ from < to",
+        ));
+    }
+    match bounds {
+        (Some(b), None) | (None, Some(b)) if (0.0..=1.0).contains(&b) => Ok(()),
+        (Some(b), None) | (None, Some(b)) => Err(err(
+            &key("at_least/at_most"),
+            shown(b),
+            "must be a share in [0, 1]",
+        )),
+        _ => Err(err(
+            &key("at_least/at_most"),
+            "(both or neither)",
+            "give exactly one of them",
+        )),
+    }
 }

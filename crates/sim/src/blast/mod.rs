@@ -8,11 +8,14 @@
 pub mod assemble;
 pub mod check;
 pub mod frames;
+pub mod ledger;
+pub mod models;
 pub mod plots;
 pub mod probes;
 pub mod run;
 pub mod scenario;
 
+use crate::dispersal::{Dispersing, Frame};
 use crate::driver::{Clock, ParticleView, Simulation};
 use crate::output::Capabilities;
 use glam::DVec2;
@@ -76,6 +79,8 @@ pub struct BlastSample {
     pub fronts: Fronts,
     /// The ring's radii, band and spall.
     pub ring: Option<RingFigures>,
+    /// The ring's rotational kinetic energy (J/m), with the ledger.
+    pub rotational: Option<f64>,
 }
 
 impl Blast {
@@ -89,7 +94,11 @@ impl Blast {
             Some(rp) => {
                 let dt = rp.dt(coupling_safety);
                 let coupling = Coupling::new(rp.stiffness, rp.setup.skin);
-                let ring = Ring::new(rp.setup, rp.particles, coupling, &mut charge);
+                let mut ring = Ring::new(rp.setup, rp.particles, coupling, &mut charge);
+                if s.analysis.energy_ledger {
+                    let start = grains_dem::EnergyLedger::starting(&ring.setup, &ring.state);
+                    ring.state.ledger = Some(start);
+                }
                 (Some(ring), dt, rp.mean_diameter)
             }
             None => (None, f64::INFINITY, 0.0),
@@ -197,6 +206,16 @@ impl Simulation for Blast {
             energies: energies(&self.fem, &self.charge),
             fronts: fronts(&self.charge),
             ring: self.ring_figures(),
+            rotational: self
+                .ring
+                .as_ref()
+                .filter(|r| r.state.ledger.is_some())
+                .map(|r| {
+                    let p = &r.state.particles;
+                    (0..p.len())
+                        .map(|i| 0.5 * p.omega[i] * p.omega[i] / p.inv_inertia[i])
+                        .sum()
+                }),
         }
     }
 
@@ -236,5 +255,33 @@ impl Simulation for Blast {
             h.word(grains_dem::diagnostics::state_hash(&r.state));
         }
         h.finish()
+    }
+}
+
+impl Dispersing for Blast {
+    fn dispersal_frame(&self) -> Frame {
+        let v = self.particles();
+        let c = self.centre;
+        Frame {
+            time: self.charge.time,
+            id: v.id.to_vec(),
+            pos: v.pos.to_vec(),
+            vel: v.vel.to_vec(),
+            radius: v.radius.into_owned(),
+            mass: v.mass.into_owned(),
+            stress: self
+                .ring
+                .as_ref()
+                .map(|r| grains_dem::stress::particle_stress(&r.setup, &r.state)),
+            // As a finished run's analysis reads it from the mesh's frame.
+            charge_radius: Some(
+                self.charge
+                    .nodes
+                    .pos
+                    .iter()
+                    .map(|p| (*p - c).length())
+                    .fold(0.0, f64::max),
+            ),
+        }
     }
 }

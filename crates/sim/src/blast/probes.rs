@@ -29,6 +29,8 @@ pub struct Context<'a> {
     pub charge_mass: f64,
     /// Ring mass (kg/m), if any.
     pub ring_mass: Option<f64>,
+    /// The dispersal analysis's figures, if it ran.
+    pub dispersal: Option<&'a Value>,
 }
 
 /// The classic cylindrical Gurney velocity √(2E)·(M/C + ½)^(−½), with √(2E) from the
@@ -152,6 +154,9 @@ pub fn evaluate(cx: &Context) -> (Vec<Check>, Map<String, Value>, Vec<ArrivalBin
                 "|1 − ring kinetic energy / work done by the charge on the ring| at the end (elastic, frictionless grains)",
             ),
             CheckSpec::FillToBurster { expected, tolerance } => fill_to_burster_check(fb, expected, tolerance),
+            CheckSpec::ShearBandMode { mode, from, to, at_least, at_most } => {
+                shear_band_mode_check(cx.dispersal, mode, (from, to), (at_least, at_most))
+            }
         });
     }
     (checks, fig, arrival)
@@ -162,4 +167,44 @@ pub fn fill_to_burster_check(measured: f64, expected: f64, tolerance: f64) -> Ch
     Check::relative("fill_to_burster_ratio", measured, expected, tolerance).with_note(
         "ring mass (Σ ρπr² of the disks) over charge mass (ρ0 × mesh area), vs the paper's Table 2",
     )
+}
+
+/// The `shear_band_mode` check: the share of the analysed times in [from, to] at which
+/// the shear rate's leading azimuthal mode at the band's inner perimeter is `mode`.
+fn shear_band_mode_check(
+    dispersal: Option<&Value>,
+    mode: usize,
+    (from, to): (f64, f64),
+    (at_least, at_most): (Option<f64>, Option<f64>),
+) -> Check {
+    let modes: Vec<Option<u64>> = dispersal
+        .and_then(|d| d["frames"].as_array())
+        .map(|frames| {
+            frames
+                .iter()
+                .filter(|r| r["time"].as_f64().is_some_and(|t| t >= from && t <= to))
+                .map(|r| r["shear_bands"]["dominant_mode"].as_u64())
+                .collect()
+        })
+        .unwrap_or_default();
+    let hits = modes.iter().filter(|m| **m == Some(mode as u64)).count();
+    let share = if modes.is_empty() {
+        f64::NAN
+    } else {
+        hits as f64 / modes.len() as f64
+    };
+    let name = format!("shear_band_mode_{mode}_share");
+    let check = match (at_least, at_most) {
+        (Some(b), _) => Check::at_least(&name, share, b),
+        (_, b) => Check::at_most(&name, share, b.unwrap_or(f64::NAN)),
+    };
+    check.with_note(&format!(
+        "{hits} of the {} times analysed in [{:.1}, {:.1}] µs have the shear rate's leading \
+         azimuthal mode (k ≥ 2) at the band's inner perimeter equal to {mode} \
+         (xue-2019 §5.5: six groups of spiral shear bands in an ordered ring's hexagonal \
+         band, none in an amorphous ring's)",
+        modes.len(),
+        from * 1e6,
+        to * 1e6
+    ))
 }

@@ -2,7 +2,8 @@
 
 use super::assemble::assemble;
 use super::scenario::Scenario;
-use super::{plots, probes, Blast, BlastSample, CAPABILITIES};
+use super::{ledger, models, plots, probes, Blast, BlastSample, CAPABILITIES};
+use crate::dispersal::DispersalObserver;
 use crate::driver::{discount, Counters, Observer, Report, Status};
 use crate::frames::FrameRecorder;
 use crate::frames::{Mapped, Snapshots};
@@ -46,6 +47,9 @@ impl Recorded for Blast {
                 "mean_radial_velocity",
                 "neighbour_builds",
             ]);
+            if self.ring.as_ref().is_some_and(|r| r.state.ledger.is_some()) {
+                c.extend(LEDGER_COLUMNS);
+            }
         }
         c.into_iter().map(String::from).collect()
     }
@@ -90,10 +94,24 @@ impl Recorded for Blast {
                 g.mean_velocity,
                 r.state.contacts.builds as f64,
             ]);
+            if let (Some(l), Some(rot)) = (&r.state.ledger, s.rotational) {
+                row.extend([rot, l.stored(), l.damping, l.friction, l.springs_released]);
+            }
         }
         row
     }
 }
+
+/// History columns of the energy ledger (J/m): the grains' rotational kinetic energy,
+/// the energy stored in their contacts, and what damping, sliding and dropped
+/// tangential springs have dissipated so far.
+pub const LEDGER_COLUMNS: [&str; 5] = [
+    "particle_rotational",
+    "contact_stored",
+    "contact_damping",
+    "contact_friction",
+    "springs_released",
+];
 
 /// Runs `s` (read from `src`) into `opts.out`.
 pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished, RunError> {
@@ -123,10 +141,31 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
     };
     std::fs::create_dir_all(&snaps.dir)
         .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", snaps.dir.display()))?;
-    let plan = s.output.plan_by_time(&CAPABILITIES, s.run.duration);
+    let mut plan = s.output.plan_by_time(&CAPABILITIES, s.run.duration);
+    let mut dispersal = match (&s.analysis.dispersal, &sim.ring) {
+        (Some(d), Some(_)) => {
+            // A frame at each chosen time, so that the maps there can be made again
+            // from the frames.
+            plan.snapshots.extend(&d.times);
+            plan.snapshots.sort_by(f64::total_cmp);
+            plan.snapshots.dedup();
+            let centre = d.centre.map_or(sim.centre, glam::DVec2::from);
+            Some(DispersalObserver::new(
+                &s.name,
+                d,
+                centre,
+                s.run.duration,
+                &out,
+            ))
+        }
+        _ => None,
+    };
     let outcome = {
         let mut observers: Vec<&mut dyn Observer<Blast>> =
             vec![&mut history, &mut frames, &mut snaps, &mut last];
+        if let Some(d) = dispersal.as_mut() {
+            observers.push(d);
+        }
         drive(
             &mut sim,
             &mut observers,
@@ -147,6 +186,7 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
             let p = &r.state.particles;
             (0..p.len()).map(|i| p.mass(i)).sum()
         }),
+        dispersal: outcome.report.figures.get("dispersal"),
     };
     let (checks, mut figures, arrival) = probes::evaluate(&ctx);
     figures.insert("max_penetration_ratio".into(), sim.max_penetration.into());
@@ -156,6 +196,18 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
     if let Some(r) = &sim.ring {
         figures.insert("coupling_stiffness".into(), r.coupling.stiffness.into());
         figures.insert("coupling_builds".into(), r.coupling.builds.into());
+        let p = &r.state.particles;
+        let mass: f64 = (0..p.len()).map(|i| p.mass(i)).sum();
+        if let Some(m) = models::figures(s, mass, sim.charge.time) {
+            figures.insert("models".into(), m);
+        }
+    }
+    if let Some(l) = ledger::figures(&history.history) {
+        figures.insert("energy_ledger".into(), l);
+    }
+    if let Some(d) = &dispersal {
+        figures.insert("dispersal_analysed".into(), d.analysed().into());
+        figures.insert("dispersal_wall_time_s".into(), d.seconds().into());
     }
     let mut outcome = outcome;
     outcome.report = merge(outcome.report, figures, checks, &outcome.status);
@@ -173,6 +225,7 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
         reference,
         gurney,
     )?;
+    ledger::plot(&out.join("plots"), &history.history)?;
     let mut counts = serde_json::Map::new();
     counts.insert(
         "neighbour_builds".into(),

@@ -216,6 +216,19 @@ pub struct AnalysisSpec {
     /// the terminal velocity.
     #[serde(default = "default_terminal_window")]
     pub terminal_window: f64,
+    /// Keep the grains' energy ledger (contact damping, friction, stored contact
+    /// energy; history columns and `figures.energy_ledger`). Default on: it changes
+    /// nothing in the run and costs a few per cent of the particles' step.
+    #[serde(default = "default_true")]
+    pub energy_ledger: bool,
+    /// `[analysis.dispersal]`: the dispersal analysis of xue-2019 §§4.2–5 during the
+    /// run (fields, fronts, profiles, band and spall, shear bands, jets).
+    #[serde(default)]
+    pub dispersal: Option<crate::dispersal::DispersalSettings>,
+}
+
+fn default_true() -> bool {
+    true
 }
 
 fn default_band_fraction() -> f64 {
@@ -239,6 +252,8 @@ impl Default for AnalysisSpec {
             sectors: None,
             stressed_pressure: default_stressed(),
             terminal_window: default_terminal_window(),
+            energy_ledger: true,
+            dispersal: None,
         }
     }
 }
@@ -285,6 +300,25 @@ pub enum CheckSpec {
         #[serde(default = "five_percent")]
         tolerance: f64,
     },
+    /// The share of the times analysed in [`from`, `to`] at which the shear rate at the
+    /// compact band's inner perimeter has its leading azimuthal mode equal to `mode`
+    /// (xue-2019 §§5.4–5.5: an ordered packing's band is hexagonal, its spiral shear
+    /// bands gather in six groups between the corners; an amorphous one's are spread
+    /// evenly). Exactly one of `at_least` and `at_most`. Needs `[analysis.dispersal]`.
+    ShearBandMode {
+        /// The mode (lobes round the ring).
+        mode: usize,
+        /// Start of the window (s).
+        from: f64,
+        /// End of the window (s).
+        to: f64,
+        /// Least share.
+        #[serde(default)]
+        at_least: Option<f64>,
+        /// Largest share.
+        #[serde(default)]
+        at_most: Option<f64>,
+    },
 }
 
 fn two_percent() -> f64 {
@@ -298,7 +332,7 @@ fn fifteen_percent() -> f64 {
 }
 
 impl CheckSpec {
-    /// The relative tolerance.
+    /// The relative tolerance; for `shear_band_mode`, its bound on the share.
     pub fn tolerance(&self) -> f64 {
         match self {
             CheckSpec::DetonationArrival { tolerance }
@@ -306,6 +340,9 @@ impl CheckSpec {
             | CheckSpec::RingEnergyTransfer { tolerance }
             | CheckSpec::BandVelocity { tolerance, .. }
             | CheckSpec::FillToBurster { tolerance, .. } => *tolerance,
+            CheckSpec::ShearBandMode {
+                at_least, at_most, ..
+            } => at_least.or(*at_most).unwrap_or(f64::NAN),
         }
     }
 }

@@ -170,6 +170,16 @@ pub fn assemble_with(
         positive("run.stop_kinetic_ratio", r)?;
     }
     s.output.validate(&super::CAPABILITIES, s.run.duration)?;
+    if let Some(d) = &s.dispersal {
+        if d.centre.is_none() {
+            return Err(InputError::new(
+                "dispersal.centre",
+                "(missing)",
+                "required: the centre of the polar grid, [x, y] in m",
+            ));
+        }
+        d.validate("dispersal", s.run.duration)?;
+    }
     if let Some(t) = s.run.stop_rest_time {
         positive("run.stop_rest_time", t)?;
     }

@@ -30,22 +30,41 @@ impl Framed for Dem {
     }
 }
 
-/// The particles as VTK vertices with their fields.
+/// The particles as VTK vertices with their fields: among them each particle's mass
+/// (kg/m) and contact stress (Pa, Love's average over the disk, tension positive; a
+/// 3 × 3 tensor with zero z row and column, as ParaView expects), which the dispersal
+/// analysis of a finished run reads back.
 pub fn particles_polydata(setup: &Setup, s: &State) -> PolyData {
     let p = &s.particles;
     let mut poly = PolyData::from_points_2d(&p.pos);
     let contacts = diagnostics::contact_counts(setup, s);
+    let stress = grains_dem::stress::particle_stress(setup, s);
     poly.point_data = vec![
         DataArray::scalar_i64("id", p.id.iter().map(|&k| k as i64).collect()),
         DataArray::scalar_f64("radius", p.radius.clone()),
+        DataArray::scalar_f64("mass", (0..p.len()).map(|i| p.mass(i)).collect()),
         DataArray::vector2_f64("velocity", &p.vel),
         DataArray::scalar_f64("speed", p.vel.iter().map(|v| v.length()).collect()),
         DataArray::scalar_f64("omega", p.omega.clone()),
         DataArray::vector2_f64("force", &p.force),
         DataArray::scalar_i32("contacts", contacts.iter().map(|&c| c as i32).collect()),
         DataArray::scalar_i32("material", p.material.iter().map(|&m| m as i32).collect()),
+        stress_array(STRESS_ARRAY, &stress),
     ];
     poly
+}
+
+/// Name of the particles' contact stress in frames.
+pub const STRESS_ARRAY: &str = "stress";
+
+/// 2 × 2 tensors as a 9-component VTK array (row-major, z row and column zero).
+pub fn stress_array(name: &str, t: &[glam::DMat2]) -> DataArray {
+    let mut v = Vec::with_capacity(9 * t.len());
+    for m in t {
+        let (xx, xy, yx, yy) = (m.x_axis.x, m.y_axis.x, m.x_axis.y, m.y_axis.y);
+        v.extend_from_slice(&[xx, xy, 0.0, yx, yy, 0.0, 0.0, 0.0, 0.0]);
+    }
+    DataArray::new(name, 9, grains_core::vtk::ArrayData::F64(v))
 }
 
 /// A LAMMPS text dump (`dump custom ... id type x y z radius vx vy vz omegaz fx fy fz`)

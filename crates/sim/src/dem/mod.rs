@@ -12,6 +12,7 @@ pub mod rest;
 pub mod run;
 pub mod scenario;
 
+use crate::dispersal::{Dispersing, Frame};
 use crate::driver::{Clock, ParticleView, Simulation};
 use crate::output::Capabilities;
 use grains_core::input::InputError;
@@ -131,5 +132,24 @@ impl Simulation for Dem {
         let mut bytes = Vec::with_capacity(200 * self.state.particles.len());
         grains_dem::checkpoint::write(&self.state, &mut bytes).ok()?;
         Some(bytes)
+    }
+}
+
+impl Dispersing for Dem {
+    fn dispersal_frame(&self) -> Frame {
+        let p = &self.state.particles;
+        Frame {
+            time: self.state.time,
+            id: p.id.clone(),
+            pos: p.pos.clone(),
+            vel: p.vel.clone(),
+            radius: p.radius.clone(),
+            mass: (0..p.len()).map(|i| p.mass(i)).collect(),
+            stress: Some(grains_dem::stress::particle_stress(
+                &self.setup,
+                &self.state,
+            )),
+            charge_radius: None,
+        }
     }
 }

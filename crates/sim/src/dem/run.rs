@@ -8,6 +8,7 @@ use super::rest::RestDetector;
 use super::scenario::Scenario;
 use super::{plots, Dem, CAPABILITIES};
 use crate::checkpoint::{self, Progress as Saved};
+use crate::dispersal::DispersalObserver;
 use crate::driver::{restore_observers, Counters, Every, Observer, Report, Status};
 use crate::frames::{FrameRecorder, Snapshots};
 use crate::history::HistoryRecorder;
@@ -67,7 +68,7 @@ pub fn run(
             (dem, steps, dt_critical)
         }
     };
-    let plan = s.output.plan_by_steps(&CAPABILITIES, steps);
+    let mut plan = s.output.plan_by_steps(&CAPABILITIES, steps);
     opts.progress.announce(&format!(
         "{}{} (dem) — {} particles, dt = {:.3e} s, {} steps, {} threads → {}",
         if resume.is_some() { "resuming " } else { "" },
@@ -112,6 +113,15 @@ pub fn run(
         RestDetector::new(&sim, ratio, hold)
     });
     let mut ends = Figures { scenario: s };
+    // On a resumed run the analysis covers the new segment; `grains analyze RUN_DIR`
+    // covers every frame.
+    let mut dispersal = s.dispersal.as_ref().map(|d| {
+        plan.snapshots.extend(&d.times);
+        plan.snapshots.sort_by(f64::total_cmp);
+        plan.snapshots.dedup();
+        let centre = glam::DVec2::from(d.centre.unwrap_or_default());
+        DispersalObserver::new(&s.name, d, centre, s.run.duration, &out)
+    });
     let mut snaps = Snapshots {
         dir: out.join("plots"),
     };
@@ -121,6 +131,9 @@ pub fn run(
     }
     observers.push(&mut checks);
     observers.push(&mut ends);
+    if let Some(d) = dispersal.as_mut() {
+        observers.push(d);
+    }
     if let Some(r) = &resume {
         restore_observers(&mut observers, &r.progress.observers)?;
     }

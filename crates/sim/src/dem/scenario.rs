@@ -44,6 +44,10 @@ pub struct Scenario {
     /// Figures reported in summary.json (not checked).
     #[serde(rename = "figure", default)]
     pub figures: Vec<FigureSpec>,
+    /// `[dispersal]`: the dispersal analysis about `centre` during the run (a ring of
+    /// grains driven outward, as xue-2019's).
+    #[serde(default)]
+    pub dispersal: Option<Box<crate::dispersal::DispersalSettings>>,
 }
 
 /// `[domain]`: box corners and periodicity.

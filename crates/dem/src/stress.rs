@@ -1,0 +1,160 @@
+//! Each particle's contact stress (Love's average over the disk), for frames and for the
+//! coarse-grained stress of the dispersal analysis (xue-2019 Eq. 6). Read-only: the
+//! contact forces are evaluated again from the state, springs as stored, not advanced.
+
+use crate::contact::PairParams;
+use crate::forces::contact_law;
+use crate::setup::Setup;
+use crate::step::State;
+use glam::{DMat2, DVec2};
+
+/// The dyad `a ⊗ f` (`[a_i f_j]`).
+#[inline]
+fn outer(a: DVec2, f: DVec2) -> DMat2 {
+    DMat2::from_cols(a * f.x, a * f.y)
+}
+
+/// Each particle's contact stress σ_i = (1/πr_i²) Σ_c a_c ⊗ f_c (Pa per unit thickness,
+/// tension positive): `a_c` from the centre to the middle of the overlap, `f_c` the force
+/// on the particle, over its pair and wall contacts. The forces are the contact law's
+/// with the present velocities and the stored tangential springs; summed over both
+/// particles of a pair the arms add up to the branch vector, so Σ_i πr_i² σ_i is Σ over
+/// contacts of l ⊗ f, the sum of Eq. 6.
+pub fn particle_stress(setup: &Setup, s: &State) -> Vec<DMat2> {
+    let p = &s.particles;
+    let list = &s.contacts;
+    let n = p.len();
+    let mut sum = vec![DMat2::ZERO; n];
+    let force = |pp: &PairParams, m_eff: f64, n: DVec2, overlap: f64, v: DVec2, spin, xi| {
+        let f = contact_law(pp, m_eff, n.x, n.y, overlap, v.x, v.y, spin, xi, 0.0);
+        // On the first body: −F_n n + F_t t, t = (−n_y, n_x).
+        -f.normal * n + f.tangential * n.perp()
+    };
+    if list.row.len() == n + 1 {
+        for i in 0..n {
+            for e in list.row[i] as usize..list.row[i + 1] as usize {
+                let j = list.nbr[e] as usize;
+                let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
+                let dist = d.length();
+                let overlap = p.radius[i] + p.radius[j] - dist;
+                if overlap <= 0.0 || dist == 0.0 {
+                    continue;
+                }
+                let nv = d / dist;
+                let pp = setup
+                    .pairs
+                    .get(p.material[i] as usize, p.material[j] as usize);
+                let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
+                let spin = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
+                let f = force(
+                    pp,
+                    m_eff,
+                    nv,
+                    overlap,
+                    p.vel[i] - p.vel[j],
+                    spin,
+                    list.shear[e],
+                );
+                sum[i] += outer((p.radius[i] - 0.5 * overlap) * nv, f);
+                sum[j] += outer(-(p.radius[j] - 0.5 * overlap) * nv, -f);
+            }
+        }
+    }
+    let nw = setup.walls.len();
+    for i in 0..n {
+        for (w, wall) in setup.walls.iter().enumerate() {
+            let Some(t) = wall.shape.nearest(p.pos[i]) else {
+                continue;
+            };
+            let overlap = p.radius[i] - t.distance;
+            if overlap <= 0.0 {
+                continue;
+            }
+            let xi = list.wall_shear.get(i * nw + w).copied().unwrap_or(0.0);
+            let pp = setup.wall_pair(w, p.material[i] as usize);
+            let f = force(
+                pp,
+                p.mass(i),
+                t.normal,
+                overlap,
+                p.vel[i],
+                p.radius[i] * p.omega[i],
+                xi,
+            );
+            sum[i] += outer((t.distance + 0.5 * overlap) * t.normal, f);
+        }
+    }
+    sum.iter()
+        .zip(&p.radius)
+        .map(|(m, r)| *m * (1.0 / (std::f64::consts::PI * r * r)))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::ContactModel;
+    use crate::domain::Domain;
+    use crate::material::Material;
+    use crate::particles::Particles;
+
+    fn setup(materials: &[Material]) -> Setup {
+        let domain = Domain {
+            lo: DVec2::splat(-1.0),
+            hi: DVec2::splat(1.0),
+            periodic: [false, false],
+        };
+        let model = ContactModel::Material {
+            limit_damping: false,
+        };
+        Setup::new(
+            domain,
+            materials.to_vec(),
+            model,
+            Vec::new(),
+            DVec2::ZERO,
+            1e-3,
+        )
+        .unwrap()
+    }
+
+    /// Two disks pressed together along x at rest: σ_xx of each is −k δ (r − δ/2)/(πr²),
+    /// the other components zero, and the area-weighted sum is l ⊗ f.
+    #[test]
+    fn a_pressed_pair() {
+        let mat = Material {
+            name: "m".into(),
+            density: 1000.0,
+            youngs: Some(1e6),
+            poisson: Some(0.3),
+            friction: Some(0.5),
+            restitution: Some(0.5),
+            inertia_factor: 0.5,
+        };
+        let s = setup(std::slice::from_ref(&mat));
+        let (r, delta) = (0.01, 1e-4);
+        let mut p = Particles::default();
+        p.push(DVec2::ZERO, r, 1000.0, 0.5, 0, DVec2::ZERO, 0.0);
+        p.push(
+            DVec2::new(2.0 * r - delta, 0.0),
+            r,
+            1000.0,
+            0.5,
+            0,
+            DVec2::ZERO,
+            0.0,
+        );
+        let state = State::new(&s, p);
+        let sigma = particle_stress(&s, &state);
+        let kn = s.pairs.get(0, 0).kn;
+        let want = -kn * delta * (r - 0.5 * delta) / (std::f64::consts::PI * r * r);
+        for m in &sigma {
+            assert!((m.x_axis.x - want).abs() < 1e-12 * want.abs(), "{m:?}");
+            assert_eq!((m.x_axis.y, m.y_axis.x, m.y_axis.y), (0.0, 0.0, 0.0));
+        }
+        let area = std::f64::consts::PI * r * r;
+        let total = (sigma[0] + sigma[1]) * area;
+        let branch = 2.0 * r - delta;
+        assert!((total.x_axis.x - (-kn * delta * branch)).abs() < 1e-12 * kn * delta * branch);
+    }
+}
