@@ -182,8 +182,12 @@ impl Cell {
         (
             file.into(),
             format!("Bodies at the {when} (γ = {:.2})", self.strain()),
-            "body (index)".into(),
-            snapshot(sim, self.strain(), |i| body[i] as f64),
+            "shade (tells bodies apart)".into(),
+            // Consecutive bodies (neighbours in a packing or a list) would get nearly
+            // the same colour from their index; the golden-ratio step spreads them.
+            snapshot(sim, self.strain(), |i| {
+                (f64::from(body[i]) * 0.618_033_988_75).fract()
+            }),
         )
     }
 
