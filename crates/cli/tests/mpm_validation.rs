@@ -1,6 +1,6 @@
 //! The bardenhagen-1998 MPM cases through the `grains` binary, as the user runs them.
 //! `#[ignore]`d (run with `cargo test --release -p grains --test mpm_validation --
-//! --ignored`): together they take about a minute and a half in a release build. Each
+//! --ignored`): together they take about three minutes in a release build. Each
 //! example must exit 0 with every check passing; the figures the checks do not bound are
 //! held to what VALIDATION.md reports.
 
@@ -79,4 +79,30 @@ fn concentric_cylinders_debond() {
     let s = passes("bardenhagen1998/concentric_cylinders_debond.toml");
     // The lattice's eightfold registry (the paper saw 4, once 2).
     assert_eq!(s["figures"]["initiation_sites"], 8);
+}
+
+/// The small sheared cells (issue 13): every check passes; pairwise contact keeps the
+/// free bodies' exchanges to round-off; the dry cell's grains roll and collide (the
+/// boundaries carry load) and the binder debonds.
+#[test]
+#[ignore]
+fn shear_cells_small() {
+    for e in [
+        "bardenhagen1998/shear_cell_dry_small.toml",
+        "bardenhagen1998/shear_cell_binder_small.toml",
+        "bardenhagen1998/pbx9501_small.toml",
+    ] {
+        let s = passes(e);
+        let f = &s["figures"];
+        let imbalance = f["contact_imbalance"].as_f64().unwrap();
+        let impulse = f["boundary_impulse"].as_f64().unwrap();
+        assert!(impulse > 0.0 && imbalance <= 1e-12 * impulse, "{e}: {f}");
+        assert!(f["shear_stress_max"].as_f64().unwrap() > 0.0, "{e}: {f}");
+        if !e.contains("dry") {
+            assert!(
+                f["debonded_length_final"].as_f64().unwrap() > 0.0,
+                "{e}: {f}"
+            );
+        }
+    }
 }

@@ -38,6 +38,7 @@ fn main() {
             lo: DVec2::ZERO,
             h,
             cells: [cells, cells],
+            periodic_y: false,
         },
         shape,
         half_width: 0.25,
@@ -47,9 +48,11 @@ fn main() {
         materials: vec![mat],
         bodies: vec![Body::free("cyl", 0)],
         contact: ContactTable::new(1, ContactLaw::Coulomb { mu: 0.0 }),
+        crowd: Default::default(),
         separation: None,
         walls: [Some(mu); 4],
         gravity: DVec2::ZERO,
+        ledger: false,
     };
     let dt = cfl * h / (c + 0.15);
     let geo = Geometry::Disk {

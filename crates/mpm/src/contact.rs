@@ -4,12 +4,14 @@
 //! Coulomb's μ times the normal change. The normal of body b is colinear with the other
 //! bodies' (n_b ∝ g_b − g_rest), so two bodies get equal and opposite corrections and
 //! momentum is conserved. Rigid bodies take the place of the centre of mass, and their
-//! mass gradient gives the normal. The domain
-//! edges are walls with exact normals and the same law. Bonded pairs follow
-//! [`crate::bond`].
+//! mass gradient gives the normal. Here each free body corrects its own patch at the nodes
+//! it shares with one other free body; nodes where more meet, or a rigid body meets
+//! another, are resolved pair by pair in [`crate::crowd`] (unless the lumped rule is
+//! asked for). The domain edges are walls with exact normals and the same law. Bonded
+//! pairs follow [`crate::bond`].
 
 use crate::bond;
-use crate::grid::{Grid, GHOST};
+use crate::grid::{Grid, Rows, GHOST};
 use crate::nodes::{GlobalBond, GlobalNode, Node, Patch};
 use crate::setup::{ContactLaw, ContactTable};
 use crate::shape::{Bspline2, Gimp, Kernel, Linear, ShapeFunction};
@@ -19,9 +21,9 @@ use glam::DVec2;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Pass {
     /// On the interpolated momenta (and MUSL's re-mapped ones): momentum only.
-    Interpolated,
+    Interpolated = 0,
     /// After integration: the change also enters the nodal force, so FLIP sees it.
-    Integrated,
+    Integrated = 1,
 }
 
 /// The Coulomb-limited momentum change that brings `dp` (stick change) into contact
@@ -47,7 +49,10 @@ pub fn coulomb(dp: DVec2, n: DVec2, law: ContactLaw) -> Option<DVec2> {
     }
 }
 
-/// What a body's corrections touched this pass.
+/// What a body's corrections touched and exchanged in a pass (or a step, merged). The
+/// momenta and works count only the corrections that reach the particles (the second
+/// pass, and the first with `pass1_to_particles`), so over a step they are what the
+/// points receive.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Touch {
     /// Nodes corrected against other bodies.
@@ -58,18 +63,67 @@ pub struct Touch {
     pub walls: u8,
     /// Nodes where a bond failed.
     pub debonded: u32,
+    /// Momentum this body's field received from free bodies' fields (N·s per unit
+    /// thickness).
+    pub from_free: DVec2,
+    /// Momentum received from rigid bodies; for a rigid body, the momentum it received
+    /// from the free bodies (the reaction to what it gave them).
+    pub from_rigid: DVec2,
+    /// Momentum received from the walls.
+    pub from_walls: DVec2,
+    /// Work of rigid bodies through these corrections, by kind ([`SLIDE`], [`HELD`]): a
+    /// rigid body's on the free bodies' fields (and, under the lumped rule, a rigid
+    /// master's on this free body's field); J per unit thickness.
+    pub work: [f64; 2],
+    /// With [`crate::Setup::ledger`], over the velocity change the particles take from
+    /// the grid, at its midpoint velocity v̄: the work Σ m v̄·δv of this body's
+    /// corrections of each kind on its grid field (δv the velocity they gave a node) ...
+    pub grid: [f64; 2],
+    /// ... and its grid field's kinetic energy change Σ m v̄·Δv, of which they are part
+    /// (the rest is the internal and body forces' work).
+    pub ke_grid: f64,
+    /// Its points' kinetic energy change. ke_grid − ke_points ≥ 0 is what the transfer
+    /// to the points loses (the FLIP projection of a non-smooth change).
+    pub ke_points: f64,
 }
+
+/// Kind of a correction: Coulomb friction (sliding, sticking or approaching), walls.
+pub const SLIDE: usize = 0;
+/// Kind of a correction: an intact (or failing) bond or `no_slip` holding fields together.
+pub const HELD: usize = 1;
 
 impl Touch {
     /// Both together.
     pub fn merge(self, o: Touch) -> Touch {
+        let add = |a: [f64; 2], b: [f64; 2]| [a[0] + b[0], a[1] + b[1]];
         Touch {
             body_nodes: self.body_nodes + o.body_nodes,
             partner: o.partner.or(self.partner),
             walls: self.walls | o.walls,
             debonded: self.debonded + o.debonded,
+            from_free: self.from_free + o.from_free,
+            from_rigid: self.from_rigid + o.from_rigid,
+            from_walls: self.from_walls + o.from_walls,
+            work: add(self.work, o.work),
+            grid: add(self.grid, o.grid),
+            ke_grid: self.ke_grid + o.ke_grid,
+            ke_points: self.ke_points + o.ke_points,
         }
     }
+}
+
+/// How contact is resolved where more than two bodies meet.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Crowd {
+    /// Pair by pair, each pair's changes equal and opposite (momentum is exact); rigid
+    /// bodies take part as pairs too ([`crate::crowd`]).
+    #[default]
+    Pairwise,
+    /// Each body against the lumped rest with its heaviest partner's law, a rigid body
+    /// as the master of all (the rule before pairs; momentum is not exact where three
+    /// bodies meet, and free bodies at a rigid body's node do not meet each other).
+    Lumped,
 }
 
 /// What one body's contact correction reads besides its own patch.
@@ -81,17 +135,33 @@ pub struct Others<'a> {
     pub bond: &'a [GlobalBond],
     /// Stored rows of the global grid.
     pub rows: usize,
+    /// Row arithmetic of a periodic y (a patch's image rows meet the others at their
+    /// canonical rows).
+    pub wrap: Option<Rows>,
+    /// Cell size (m).
+    pub h: f64,
     /// Laws per pair.
     pub table: &'a ContactTable,
     /// Nairn's separation cut-off (see [`touching_separation`]).
     pub separation: Option<f64>,
     /// Density of each body's material (for the interface length at a node).
     pub density: &'a [f64],
+    /// Pairwise contact: leave the nodes [`crate::crowd`] resolves.
+    pub pairwise: bool,
+    /// This pass's corrections reach the particles: count their impulses and energies.
+    pub counts: bool,
 }
 
-#[inline]
-fn patch_x(xs: &[DVec2], k: usize) -> DVec2 {
-    xs[k]
+impl Others<'_> {
+    /// Global index of the node in patch column `c`, row `r` of `patch`.
+    #[inline]
+    pub fn at(&self, patch: &Patch, c: usize, r: usize) -> usize {
+        let col = (patch.lo[0] + c) * self.rows;
+        match self.wrap {
+            None => col + patch.lo[1] + r,
+            Some(w) => col + w.canonical(patch.lo[1] + r),
+        }
+    }
 }
 
 #[inline]
@@ -183,12 +253,13 @@ fn length(b: u16, partner: u16, g: &GlobalNode, len: f64, density: &[f64]) -> f6
 /// normal) and the interface length the node stands for, into the patch's bond records.
 pub fn bond_forces(b: u16, patch: &mut Patch, others: &Others, dt: f64) {
     let rows = patch.size[1];
-    for (c, col) in patch.nodes.chunks(rows).enumerate() {
-        let at = (patch.lo[0] + c) * others.rows + patch.lo[1];
-        for (r, n) in col.iter().enumerate() {
+    for c in 0..patch.size[0] {
+        for r in 0..rows {
+            let at = others.at(patch, c, r);
+            let n = &patch.nodes[c * rows + r];
             let rec = &mut patch.bond[c * rows + r];
             (rec.force, rec.length) = (0.0, 0.0);
-            let g = &others.global[at + r];
+            let g = &others.global[at];
             if g.count < 2 || n.m <= 0.0 || rec.failed {
                 continue;
             }
@@ -198,7 +269,7 @@ pub fn bond_forces(b: u16, patch: &mut Patch, others: &Others, dt: f64) {
             else {
                 continue;
             };
-            if others.bond[at + r].strength.min(strength) <= 0.0 {
+            if others.bond[at].strength.min(strength) <= 0.0 {
                 continue;
             }
             if let (target, Some((normal, len))) = meeting(n, g) {
@@ -206,6 +277,17 @@ pub fn bond_forces(b: u16, patch: &mut Patch, others: &Others, dt: f64) {
                 rec.length = length(b, partner, g, len, others.density);
             }
         }
+    }
+}
+
+/// What body `b`'s change `dp` of its field at node `g` exchanges: momentum from the
+/// others, and a rigid master's work dp·v_rigid, of kind `kind`.
+fn count(touch: &mut Touch, dp: DVec2, g: &GlobalNode, kind: usize) {
+    if g.m_rigid > 0.0 {
+        touch.from_rigid += dp;
+        touch.work[kind] += dp.dot(g.p_rigid) / g.m_rigid;
+    } else {
+        touch.from_free += dp;
     }
 }
 
@@ -221,23 +303,32 @@ pub fn bodies(b: u16, patch: &mut Patch, others: &Others, pass: Pass, dt: f64) -
     let inv_dt = 1.0 / dt;
     let keep = !patch.xs.is_empty();
     let (table, separation) = (others.table, others.separation);
-    for (c, col) in patch.nodes.chunks_mut(rows).enumerate() {
-        let at = (patch.lo[0] + c) * others.rows + patch.lo[1];
-        let gcol = &others.global[at..][..rows];
-        for (r, (n, g)) in col.iter_mut().zip(gcol).enumerate() {
-            if g.count < 2 || n.m <= 0.0 {
+    for c in 0..patch.size[0] {
+        for r in 0..rows {
+            let k = c * rows + r;
+            let at = others.at(patch, c, r);
+            let g = &others.global[at];
+            if g.count < 2 || patch.nodes[k].m <= 0.0 {
                 continue;
             }
+            if others.pairwise && crate::crowd::crowded(g) {
+                continue;
+            }
+            let xs = if keep {
+                patch.position_sum(k, others.wrap, others.h)
+            } else {
+                DVec2::ZERO
+            };
+            let n = &mut patch.nodes[k];
             let partner = g.partner(b);
             let law = table.get(b as usize, partner as usize);
             let (target, normal) = meeting(n, g);
-            let k = c * rows + r;
             // A bond's state here: its strength (0 once failed), the traction it
             // carries (tested after integration), and the normal traction of the
             // stresses (for the compression test once debonded).
             let bonded = match law {
                 ContactLaw::Bonded { strength, mu } => {
-                    let gb = &others.bond[at + r];
+                    let gb = &others.bond[at];
                     let s = if patch.bond[k].failed {
                         0.0
                     } else {
@@ -256,7 +347,12 @@ pub fn bodies(b: u16, patch: &mut Patch, others: &Others, pass: Pass, dt: f64) -
             let Some((normal, _)) = normal else {
                 // No normal: only an intact bond still acts (the fields move as one).
                 if intact {
-                    apply(n, target - n.p, pass, inv_dt, 1);
+                    let dp = target - n.p;
+                    if others.counts {
+                        count(&mut touch, dp, g, HELD);
+                        patch.record(k, pass as usize, HELD, dp);
+                    }
+                    apply(&mut patch.nodes[k], dp, pass, inv_dt, 1);
                     touch.body_nodes += 1;
                     touch.partner = Some(partner);
                 }
@@ -265,29 +361,37 @@ pub fn bodies(b: u16, patch: &mut Patch, others: &Others, pass: Pass, dt: f64) -
             if let (Some(cut), true, false) =
                 (separation, keep, intact || law == ContactLaw::NoSlip)
             {
-                let mine = patch_x(&patch.xs, k) / n.m;
+                let mine = xs / n.m;
                 let theirs = if g.m_rigid > 0.0 {
                     g.x_rigid / g.m_rigid
                 } else {
-                    (g.x - patch_x(&patch.xs, k)) / (g.m - n.m)
+                    (g.x - xs) / (g.m - n.m)
                 };
                 if (theirs - mine).dot(normal) > cut {
                     continue;
                 }
             }
-            let dp = match bonded {
+            let (dp, held) = match bonded {
                 Some((s, pull, t, mu)) => {
                     let (dp, failed) = bond::bonded(target - n.p, normal, pull, t, s, mu);
                     if failed {
                         patch.bond[k].failed = true;
                         touch.debonded += 1;
                     }
-                    dp
+                    (dp, s > 0.0)
                 }
-                None => coulomb(target - n.p, normal, law),
+                None => (
+                    coulomb(target - n.p, normal, law),
+                    law == ContactLaw::NoSlip,
+                ),
             };
             if let Some(dp) = dp {
-                apply(n, dp, pass, inv_dt, 1);
+                let kind = if held { HELD } else { SLIDE };
+                if others.counts {
+                    count(&mut touch, dp, g, kind);
+                    patch.record(k, pass as usize, kind, dp);
+                }
+                apply(&mut patch.nodes[k], dp, pass, inv_dt, 1);
                 touch.body_nodes += 1;
                 touch.partner = Some(partner);
             }
@@ -312,6 +416,7 @@ pub fn walls(
     grid: &Grid,
     walls: &[Option<f64>; 4],
     pass: Pass,
+    counts: bool,
     dt: f64,
 ) -> Touch {
     let mut touch = Touch::default();
@@ -340,6 +445,12 @@ pub fn walls(
                 }
                 // Stick change: bring the node to rest against the wall.
                 if let Some(dp) = coulomb(-n.p, normal, law) {
+                    if counts {
+                        touch.from_walls += dp;
+                        if !patch.ledger.is_empty() {
+                            patch.ledger[k].dv[pass as usize][SLIDE] += dp / n.m;
+                        }
+                    }
                     apply(n, dp, pass, inv_dt, 2 << side);
                     touch.walls |= 1 << side;
                 }
@@ -396,9 +507,10 @@ mod tests {
             lo: DVec2::ZERO,
             h: 1.0,
             cells: [4, 4],
+            periodic_y: false,
         };
         let mut patch = Patch::default();
-        patch.reset([0, 0], [3, 3], false, false);
+        patch.reset([0, 0], [3, 3], false, false, false);
         for n in &mut patch.nodes {
             n.m = 2.0;
             n.p = DVec2::new(-1.0, 0.4);
@@ -408,9 +520,12 @@ mod tests {
             &grid,
             &[Some(0.1), None, None, None],
             Pass::Integrated,
+            true,
             0.5,
         );
         assert_eq!(t.walls, 1);
+        // Six nodes each lose (1, −0.1): the wall's impulse.
+        assert!((t.from_walls - DVec2::new(6.0, -0.6)).length() < 1e-14);
         // Columns 0 and 1 (ghost and edge) are corrected, column 2 is not.
         assert!((patch.nodes[0].p - DVec2::new(0.0, 0.3)).length() < 1e-15);
         assert!((patch.nodes[3].p - DVec2::new(0.0, 0.3)).length() < 1e-15);

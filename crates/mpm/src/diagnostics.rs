@@ -106,10 +106,25 @@ pub fn measure(setup: &Setup, p: &Particles, ranges: &[(usize, usize)]) -> Diagn
         finite: true,
         ..Default::default()
     };
+    let period = setup.grid.period_y();
     for (b, body) in setup.bodies.iter().enumerate() {
         let (start, end) = ranges[b];
         let mat = &setup.materials[body.material];
         let free = body.motion == Motion::Free;
+        // Along a periodic y a body's points are seen from one of them (minimum image),
+        // so a body across the seam has its centre and moments in one piece.
+        let seen_from = |x: DVec2, r: DVec2| match period {
+            None => x,
+            Some(l) => {
+                let d = x.y - r.y;
+                DVec2::new(x.x, r.y + d - l * (d / l).round())
+            }
+        };
+        let (r, r0) = if start < end {
+            (p.pos[start], p.pos0[start])
+        } else {
+            (DVec2::ZERO, DVec2::ZERO)
+        };
         let chunks: Vec<Sums> = (start..end)
             .step_by(CHUNK)
             .collect::<Vec<_>>()
@@ -117,11 +132,11 @@ pub fn measure(setup: &Setup, p: &Particles, ranges: &[(usize, usize)]) -> Diagn
             .map(|c0| {
                 let mut s = Sums::default();
                 for i in c0..(c0 + CHUNK).min(end) {
-                    let (m, x, v) = (p.mass[i], p.pos[i], p.vel[i]);
+                    let (m, x, v) = (p.mass[i], seen_from(p.pos[i], r), p.vel[i]);
                     s.m += m;
                     s.mx += m * x;
                     s.mv += m * v;
-                    s.m0 += m * p.pos0[i];
+                    s.m0 += m * seen_from(p.pos0[i], r0);
                     s.ke += 0.5 * m * v.length_squared();
                     s.pe -= m * g.dot(x);
                     if free {
@@ -164,8 +179,8 @@ pub fn measure(setup: &Setup, p: &Particles, ranges: &[(usize, usize)]) -> Diagn
                 let mut q = Moments::default();
                 for i in c0..(c0 + CHUNK).min(end) {
                     let m = p.mass[i];
-                    let r = p.pos[i] - centre;
-                    let r0 = p.pos0[i] - centre0;
+                    let r = seen_from(p.pos[i], r) - centre;
+                    let r0 = seen_from(p.pos0[i], r0) - centre0;
                     q.l += m * r.perp_dot(p.vel[i] - vel);
                     q.i += m * r.length_squared();
                     q.cross += m * r0.perp_dot(r);
@@ -182,7 +197,7 @@ pub fn measure(setup: &Setup, p: &Particles, ranges: &[(usize, usize)]) -> Diagn
         });
         d.bodies.push(BodyDiag {
             mass: s.m,
-            centre,
+            centre: setup.grid.wrap(centre),
             velocity: vel,
             omega: if q.i > 0.0 { q.l / q.i } else { 0.0 },
             angle: q.cross.atan2(q.dot),

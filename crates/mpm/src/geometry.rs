@@ -46,6 +46,12 @@ pub enum Geometry {
         /// The holes (other bodies' shapes).
         minus: Vec<Geometry>,
     },
+    /// Several shapes as one (e.g. a boundary with the grains fixed to it); they may
+    /// overlap.
+    Union {
+        /// The shapes.
+        parts: Vec<Geometry>,
+    },
 }
 
 /// Sample points per axis of the numerical area of shapes without a closed form.
@@ -101,6 +107,41 @@ impl Geometry {
             Geometry::Difference { base, minus } => {
                 base.contains(p) && !minus.iter().any(|m| m.contains(p))
             }
+            Geometry::Union { parts } => parts.iter().any(|g| g.contains(p)),
+        }
+    }
+
+    /// The same shape moved by `d`.
+    pub fn translated(&self, d: DVec2) -> Geometry {
+        let m = |v: &[f64; 2]| (DVec2::from(*v) + d).to_array();
+        match self {
+            Geometry::Disk { centre, radius } => Geometry::Disk {
+                centre: m(centre),
+                radius: *radius,
+            },
+            Geometry::Rectangle { lo, hi } => Geometry::Rectangle {
+                lo: m(lo),
+                hi: m(hi),
+            },
+            Geometry::Polygon { vertices } => Geometry::Polygon {
+                vertices: vertices.iter().map(m).collect(),
+            },
+            Geometry::Annulus {
+                centre,
+                inner,
+                outer,
+            } => Geometry::Annulus {
+                centre: m(centre),
+                inner: *inner,
+                outer: *outer,
+            },
+            Geometry::Difference { base, minus } => Geometry::Difference {
+                base: Box::new(base.translated(d)),
+                minus: minus.iter().map(|g| g.translated(d)).collect(),
+            },
+            Geometry::Union { parts } => Geometry::Union {
+                parts: parts.iter().map(|g| g.translated(d)).collect(),
+            },
         }
     }
 
@@ -189,6 +230,17 @@ impl Geometry {
                     .sum();
                 base.area() - removed
             }
+            Geometry::Union { parts } => {
+                let apart = parts
+                    .iter()
+                    .enumerate()
+                    .all(|(k, a)| parts[k + 1..].iter().all(|b| a.surely_apart(b)));
+                if apart {
+                    parts.iter().map(Geometry::area).sum()
+                } else {
+                    sampled_area(self.bounds(), |p| self.contains(p))
+                }
+            }
         }
     }
 
@@ -210,6 +262,10 @@ impl Geometry {
                 (c - DVec2::splat(*outer), c + DVec2::splat(*outer))
             }
             Geometry::Difference { base, .. } => base.bounds(),
+            Geometry::Union { parts } => parts.iter().map(Geometry::bounds).fold(
+                (DVec2::INFINITY, DVec2::NEG_INFINITY),
+                |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+            ),
         }
     }
 
@@ -266,6 +322,14 @@ impl Geometry {
                 }
                 if self.area() <= 0.0 {
                     return Err("minus: the holes cover the whole base".into());
+                }
+            }
+            Geometry::Union { parts } => {
+                if parts.is_empty() {
+                    return Err("parts = []: need at least one shape".into());
+                }
+                for (k, g) in parts.iter().enumerate() {
+                    g.validate().map_err(|e| format!("parts[{k}].{e}"))?;
                 }
             }
         }
@@ -415,5 +479,33 @@ mod tests {
             minus = [{ shape = "annulus", centre = [0.5, 0.5], inner = 0.1, outer = 0.2 }]"#;
         let g: Geometry = toml::from_str(toml).unwrap();
         assert!((g.area() - (1.0 - std::f64::consts::PI * 0.03)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn union_of_a_plate_and_disks() {
+        let toml = r#"shape = "union"
+            parts = [
+                { shape = "rectangle", lo = [0.0, 0.0], hi = [0.1, 1.0] },
+                { shape = "disk", centre = [0.25, 0.25], radius = 0.2 },
+                { shape = "disk", centre = [0.25, 0.75], radius = 0.2 },
+            ]"#;
+        let u: Geometry = toml::from_str(toml).unwrap();
+        assert!(u.validate().is_ok());
+        let (lo, hi) = u.bounds();
+        assert_eq!((lo, hi), (DVec2::new(0.0, 0.0), DVec2::new(0.45, 1.0)));
+        // The disks overlap the plate (a segment 0.15 from their centres): sampled.
+        let segment = 0.04 * (0.75f64).acos() - 0.15 * (0.04f64 - 0.0225).sqrt();
+        let exact = 0.1 + 2.0 * (std::f64::consts::PI * 0.04 - segment);
+        assert!(
+            (u.area() - exact).abs() < 2e-3 * exact,
+            "{} vs {exact}",
+            u.area()
+        );
+        assert!(u.contains(DVec2::new(0.05, 0.5)) && u.contains(DVec2::new(0.4, 0.25)));
+        let moved = u.translated(DVec2::new(0.0, 1.0));
+        assert!(moved.contains(DVec2::new(0.4, 1.25)) && !moved.contains(DVec2::new(0.4, 0.25)));
+        assert!((moved.area() - u.area()).abs() < 1e-12);
+        let empty = Geometry::Union { parts: vec![] };
+        assert!(empty.validate().unwrap_err().contains("parts = []"));
     }
 }

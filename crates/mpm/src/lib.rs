@@ -10,10 +10,12 @@
 //! prescribed temperature ([`TemperatureHistory`]). Each body has its own velocity field on
 //! the background grid; where fields meet, the Coulomb contact law moves them toward the
 //! centre-of-mass field, once after the particle-to-grid transfer and once after
-//! integration (the second correction reaches the particles as a force). Bonded pairs
+//! integration (the second correction reaches the particles as a force); where more than
+//! two bodies (or a rigid body and another) meet, pair by pair ([`crowd`]). Bonded pairs
 //! move as one until the bond fails, then slide ([`bond`]). The domain's edges are walls
-//! with exact normals and Coulomb friction; bodies with a prescribed velocity are rigid
-//! movers.
+//! with exact normals and Coulomb friction, or the grid is periodic along y ([`grid`]);
+//! bodies with a prescribed velocity are rigid movers, whose contact reactions and work
+//! are counted ([`Touch`]).
 //!
 //! One time step is a short fixed sequence of named stages (see [`step::step`]). State is
 //! passed explicitly: [`Particles`] (per-field storage) in a [`State`], a read-only
@@ -27,6 +29,7 @@
 
 pub mod bond;
 pub mod contact;
+pub mod crowd;
 pub mod diagnostics;
 pub mod geometry;
 pub mod grid;
@@ -43,7 +46,7 @@ pub mod thermal;
 pub mod timestep;
 pub mod transfer;
 
-pub use contact::Touch;
+pub use contact::{Crowd, Touch};
 pub use geometry::Geometry;
 pub use grid::Grid;
 pub use material::{Material, PronyTerm, Stress};

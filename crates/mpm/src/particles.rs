@@ -226,6 +226,7 @@ mod tests {
             lo: DVec2::ZERO,
             h: 1.0,
             cells: [40, 4],
+            periodic_y: false,
         };
         let mut p = Particles::default();
         for k in 0..40 {

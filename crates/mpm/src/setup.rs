@@ -177,6 +177,9 @@ pub struct Setup {
     pub bodies: Vec<Body>,
     /// Contact law per pair of bodies.
     pub contact: ContactTable,
+    /// How contact is resolved where more than two bodies (or a rigid body and another)
+    /// meet at a node.
+    pub crowd: crate::contact::Crowd,
     /// Separation test between bodies (Nairn's position method): a node's fields are
     /// only corrected where the bodies' material centroids there are at most this far
     /// apart along the normal (m); `None`: approach alone decides.
@@ -187,6 +190,9 @@ pub struct Setup {
     pub walls: [Option<f64>; 4],
     /// Gravitational acceleration (m/s²).
     pub gravity: DVec2,
+    /// Keep the energy ledger of contact: the work the corrections do on the points, by
+    /// kind ([`crate::Touch::points`]); costs a little in the particle update.
+    pub ledger: bool,
 }
 
 fn positive(key: String, v: f64) -> Result<(), InputError> {
@@ -300,6 +306,24 @@ impl Setup {
                 }
             }
         }
+        if self.grid.periodic_y {
+            for side in [2, 3] {
+                if let Some(mu) = self.walls[side] {
+                    return Err(InputError::new(
+                        format!("walls.{}", SIDES[side]),
+                        format!("{{ mu = {mu} }}"),
+                        "the grid is periodic along y (grid.periodic_y): no wall at the bottom or top",
+                    ));
+                }
+            }
+            if self.gravity.y != 0.0 {
+                return Err(InputError::new(
+                    "gravity",
+                    format!("{:?}", self.gravity.to_array()),
+                    "no y component along a periodic y (grid.periodic_y): the potential energy would jump at the seam",
+                ));
+            }
+        }
         if !self.gravity.is_finite() {
             return Err(InputError::new(
                 "gravity",
@@ -365,6 +389,7 @@ mod tests {
                 lo: DVec2::ZERO,
                 h: 0.1,
                 cells: [10, 10],
+                periodic_y: false,
             },
             shape: ShapeFunction::Gimp,
             half_width: 0.25,
@@ -374,9 +399,11 @@ mod tests {
             materials: vec![m],
             bodies: vec![Body::free("a", 0), Body::free("b", 0)],
             contact: ContactTable::new(2, law),
+            crowd: Default::default(),
             separation: None,
             walls: [None; 4],
             gravity: DVec2::ZERO,
+            ledger: false,
         }
     }
 

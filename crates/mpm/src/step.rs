@@ -9,7 +9,7 @@
 //! each body's material once for its time window (step length, temperature change) and
 //! runs a kernel compiled for that model.
 
-use crate::contact::{self, Others, Pass, Touch};
+use crate::contact::{self, Crowd, Others, Pass, Touch};
 use crate::models::{with_model, ElasticStep, Prepared};
 use crate::nodes::{Global, Kin, Patch};
 use crate::particles::{Layout, Particles};
@@ -65,6 +65,7 @@ pub struct Solver {
     next: Vec<DVec2>,
     stencils: Vec<Stencil>,
     density: Vec<f64>,
+    crowds: crate::crowd::Crowds,
 }
 
 impl Solver {
@@ -134,15 +135,16 @@ fn step_with<K: Kernel>(
     }
     integrate(setup, w, dt);
     touch = merge(touch, correct(setup, w, Pass::Integrated, true, dt));
-    grid_velocities(setup, w, dt);
-    let seen = g2p::<K>(setup, &mut s.particles, w, t, dt);
+    grid_velocities(setup, w, dt, Some(&mut touch));
+    let seen = g2p::<K>(setup, &mut s.particles, w, (t, dt), &mut touch);
     if setup.scheme == UpdateScheme::Musl {
-        remap::<K>(&s.particles, w);
+        remap::<K>(setup, &s.particles, w);
         touch = merge(touch, correct(setup, w, Pass::Interpolated, true, dt));
-        grid_velocities(setup, w, dt);
+        grid_velocities(setup, w, dt, None);
         stress_last::<K>(setup, &mut s.particles, w, (t, dt));
     }
     if touch.iter().any(|t| t.debonded > 0) {
+        unfold(setup, w);
         forget_bonds::<K>(&mut s.particles, w);
     }
     s.touch = touch;
@@ -172,6 +174,7 @@ fn place(setup: &Setup) -> Place {
         lo: setup.grid.lo,
         inv_h: 1.0 / setup.grid.h,
         lp: setup.half_width,
+        wrap_y: setup.grid.period_y().map(|l| (setup.grid.lo.y, l)),
     }
 }
 
@@ -188,11 +191,12 @@ fn prepare(setup: &Setup, p: &mut Particles, w: &mut Solver) {
     w.patches
         .par_iter_mut()
         .zip(&w.bounds)
-        .for_each(|(patch, &(lo, hi))| {
+        .zip(&w.rigid)
+        .for_each(|((patch, &(lo, hi)), &rigid)| {
             let (a, z) = (grid.cell_of(lo), grid.cell_of(hi));
             // Cells [a, z] reach stored nodes [a, z + 3] (3-node stencil, one ghost).
             let hi = [(z[0] + 4).min(stored[0]), (z[1] + 4).min(stored[1])];
-            patch.reset(a, hi, keep, bonds);
+            patch.reset(a, hi, keep, bonds, setup.ledger && !rigid);
         });
 }
 
@@ -236,12 +240,28 @@ fn p2g<K: Kernel>(setup: &Setup, p: &Particles, w: &mut Solver) {
                 }
             });
     }
+    fold(setup, w);
+}
+
+/// Along a periodic y, each patch's image rows added to their canonical rows.
+fn fold(setup: &Setup, w: &mut Solver) {
+    if let Some(rows) = setup.grid.canonical_rows() {
+        let h = setup.grid.h;
+        w.patches.par_iter_mut().for_each(|p| p.fold(rows, h));
+    }
+}
+
+/// Along a periodic y, the canonical rows' kinematics copied to the images.
+fn unfold(setup: &Setup, w: &mut Solver) {
+    if let Some(rows) = setup.grid.canonical_rows() {
+        w.patches.par_iter_mut().for_each(|p| p.unfold(rows));
+    }
 }
 
 /// One contact correction: sums the bodies (if several), then corrects each free body
 /// against the others and the walls.
 fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool, dt: f64) -> Vec<Touch> {
-    if setup.pass1_to_particles && pass == Pass::Interpolated && !momentum_only {
+    if (setup.pass1_to_particles || setup.ledger) && pass == Pass::Interpolated && !momentum_only {
         // Keep the interpolated velocity so FLIP can see this pass's change too.
         w.patches.par_iter_mut().for_each(|patch| {
             for (n, k) in patch.nodes.iter().zip(patch.kin.iter_mut()) {
@@ -254,7 +274,7 @@ fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool, dt: f
         if pass == Pass::Integrated && !g.bond.is_empty() {
             // The forces the intact bonds carry, summed and smoothed along the interface
             // before any bond is tested.
-            let others = others(setup, g, &w.density);
+            let others = others(setup, g, &w.density, false);
             w.patches
                 .par_iter_mut()
                 .enumerate()
@@ -264,33 +284,58 @@ fn correct(setup: &Setup, w: &mut Solver, pass: Pass, momentum_only: bool, dt: f
             crate::bond::smooth(g);
         }
     }
+    // The corrections that reach the particles count as impulses: the second pass, and
+    // the first one's when it is passed on (not MUSL's re-mapped momenta).
+    let counts = pass == Pass::Integrated || (setup.pass1_to_particles && !momentum_only);
     let global = w.global.as_ref();
     let (rigid, density) = (&w.rigid, &w.density);
+    let crowd = match global {
+        Some(g) if setup.crowd == Crowd::Pairwise => {
+            let o = others(setup, g, density, counts);
+            crate::crowd::resolve(&mut w.patches, &o, rigid, pass, dt, &mut w.crowds)
+        }
+        _ => vec![Touch::default(); w.patches.len()],
+    };
     w.patches
         .par_iter_mut()
+        .zip(crowd)
         .enumerate()
-        .map(|(b, patch)| {
+        .map(|(b, (patch, crowd))| {
             if rigid[b] {
-                return Touch::default();
+                return crowd;
             }
             let t = match global {
-                Some(g) => contact::bodies(b as u16, patch, &others(setup, g, density), pass, dt),
+                Some(g) => {
+                    let o = others(setup, g, density, counts);
+                    contact::bodies(b as u16, patch, &o, pass, dt)
+                }
                 None => Touch::default(),
             };
-            t.merge(contact::walls(patch, &setup.grid, &setup.walls, pass, dt))
+            crowd.merge(t).merge(contact::walls(
+                patch,
+                &setup.grid,
+                &setup.walls,
+                pass,
+                counts,
+                dt,
+            ))
         })
         .collect()
 }
 
 /// What a body's contact correction reads besides its patch.
-fn others<'a>(setup: &'a Setup, g: &'a Global, density: &'a [f64]) -> Others<'a> {
+fn others<'a>(setup: &'a Setup, g: &'a Global, density: &'a [f64], counts: bool) -> Others<'a> {
     Others {
         global: &g.nodes,
         bond: &g.bond,
         rows: g.dims[1],
+        wrap: g.wrap,
+        h: setup.grid.h,
         table: &setup.contact,
         separation: setup.separation,
         density,
+        pairwise: setup.crowd == Crowd::Pairwise,
+        counts,
     }
 }
 
@@ -303,6 +348,7 @@ fn stress_first<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, win
             k.v = if n.m > 0.0 { n.p / n.m } else { DVec2::ZERO };
         }
     });
+    unfold(setup, w);
     for colour in 0..2 {
         let layout = &w.layout;
         let stencils = &w.stencils;
@@ -324,6 +370,7 @@ fn stress_first<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, win
             }
         });
     }
+    fold(setup, w);
 }
 
 /// Gravity and integration of the free bodies' momenta: p* = p + (f + m g) Δt.
@@ -336,38 +383,86 @@ fn integrate(setup: &Setup, w: &mut Solver, dt: f64) {
             if rigid {
                 return;
             }
-            for n in patch.nodes.iter_mut() {
+            for (k, n) in patch.nodes.iter_mut().enumerate() {
                 if n.m > 0.0 {
                     n.f += n.m * g;
                     n.p += n.f * dt;
+                    if let Some(l) = patch.ledger.get_mut(k) {
+                        l.f = n.f;
+                    }
                 }
             }
         });
 }
 
 /// Nodal velocities and FLIP accelerations from the corrected momenta and forces.
-fn grid_velocities(setup: &Setup, w: &mut Solver, dt: f64) {
+/// With the ledger (`touch`), each free body's grid energy of the step ([`Touch::grid`]):
+/// its kinetic energy change over the change the particles' update takes from the grid
+/// (v₀ = v_f − a Δt → v_f), and the part of it its contact corrections did. The change
+/// splits exactly at the midpoint v̄ = (v₀ + v_f)/2 into Σ m v̄·δv (corrections) and
+/// Σ f·v̄ Δt (forces); the forces' work the stress update stores is Σ f·v_s Δt, with v_s
+/// the velocity the strain rate is taken from (USAVG: the mean of the velocity after
+/// the first correction and the final one), so the corrections are credited
+/// Σ f·(v̄ − v_s) Δt as well: the share of the force the first correction cancelled
+/// (USAVG: −½ f·δv₁ Δt).
+fn grid_velocities(setup: &Setup, w: &mut Solver, dt: f64, touch: Option<&mut [Touch]>) {
     let through = setup.pass1_to_particles;
     let inv_dt = 1.0 / dt;
-    w.patches.par_iter_mut().for_each(|patch| {
-        for (n, k) in patch.nodes.iter().zip(patch.kin.iter_mut()) {
-            if n.m > 0.0 {
-                let v = n.p / n.m;
-                k.a = if through {
-                    (v - k.a) * inv_dt
+    // v̄ − v_s = c₁ δv₁ + c₂ δv₂ (+ a force term that is no correction's).
+    let (c1, c2) = match setup.scheme {
+        UpdateScheme::Usavg => (-0.5, 0.0),
+        UpdateScheme::Usf => (-0.5, 0.5),
+        UpdateScheme::Usl | UpdateScheme::Musl => (-0.5, -0.5),
+    };
+    let energies: Vec<[f64; 3]> = w
+        .patches
+        .par_iter_mut()
+        .map(|patch| {
+            let mut e = [0.0; 3];
+            for (k, (n, kin)) in patch.nodes.iter().zip(patch.kin.iter_mut()).enumerate() {
+                if n.m > 0.0 {
+                    let v = n.p / n.m;
+                    kin.a = if through {
+                        (v - kin.a) * inv_dt
+                    } else {
+                        n.f / n.m
+                    };
+                    kin.v = v;
+                    if let Some(l) = patch.ledger.get(k) {
+                        let base = v - kin.a * dt;
+                        let mid = 0.5 * n.m * (v + base);
+                        let fdt = l.f * dt;
+                        for kind in 0..2 {
+                            let [d1, d2] = [l.dv[0][kind], l.dv[1][kind]];
+                            e[kind] += mid.dot(d1 + d2) + fdt.dot(c1 * d1 + c2 * d2);
+                        }
+                        e[2] += 0.5 * n.m * (v.length_squared() - base.length_squared());
+                    }
                 } else {
-                    n.f / n.m
-                };
-                k.v = v;
-            } else {
-                *k = Kin::default();
+                    *kin = Kin::default();
+                }
             }
+            e
+        })
+        .collect();
+    if let Some(touch) = touch {
+        for (t, e) in touch.iter_mut().zip(energies) {
+            t.grid[0] += e[0];
+            t.grid[1] += e[1];
+            t.ke_grid += e[2];
         }
-    });
+    }
+    unfold(setup, w);
 }
 
 /// Grid to particles: velocity, position and (USL, USAVG's second half) stress.
-fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, t: f64, dt: f64) -> Seen {
+fn g2p<K: Kernel>(
+    setup: &Setup,
+    p: &mut Particles,
+    w: &mut Solver,
+    (t, dt): (f64, f64),
+    touch: &mut [Touch],
+) -> Seen {
     let place = place(setup);
     let hi = setup.grid.hi();
     let musl = setup.scheme == UpdateScheme::Musl;
@@ -404,14 +499,23 @@ fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, t: f64, dt: 
             let strip = strip as usize;
             let cache = &stencils[start..end];
             let (f, pts) = (setup.flip, &mut pts);
-            let seen = match (body.motion, &models) {
-                (Motion::Prescribed(v), _) => transfer::move_rigid(&place, hi, v, dt, strip, pts),
-                (Motion::Free, Some(models)) => with_model!(&models[b as usize], m => {
-                    transfer::gather::<K, _, true>(&place, hi, m, dt, f, view, strip, pts, cache)
+            use transfer::gather;
+            let seen = match (body.motion, &models, setup.ledger) {
+                (Motion::Prescribed(v), _, _) => {
+                    transfer::move_rigid(&place, hi, v, dt, strip, pts)
+                }
+                (Motion::Free, Some(models), false) => with_model!(&models[b as usize], m => {
+                    gather::<K, _, true, false>(&place, hi, m, dt, f, view, strip, pts, cache)
                 }),
-                (Motion::Free, None) => transfer::gather::<K, _, false>(
-                    &place, hi, &none, dt, f, view, strip, pts, cache,
-                ),
+                (Motion::Free, Some(models), true) => with_model!(&models[b as usize], m => {
+                    gather::<K, _, true, true>(&place, hi, m, dt, f, view, strip, pts, cache)
+                }),
+                (Motion::Free, None, false) => {
+                    gather::<K, _, false, false>(&place, hi, &none, dt, f, view, strip, pts, cache)
+                }
+                (Motion::Free, None, true) => {
+                    gather::<K, _, false, true>(&place, hi, &none, dt, f, view, strip, pts, cache)
+                }
             };
             (b, seen)
         })
@@ -423,13 +527,14 @@ fn g2p<K: Kernel>(setup: &Setup, p: &mut Particles, w: &mut Solver, t: f64, dt: 
     for (b, s) in seen {
         let bb = &mut w.bounds[b as usize];
         *bb = (bb.0.min(s.min), bb.1.max(s.max));
+        touch[b as usize].ke_points += s.ke;
         all = all.merge(s);
     }
     all
 }
 
 /// MUSL: the updated particle momenta mapped back to the grid at the old positions.
-fn remap<K: Kernel>(p: &Particles, w: &mut Solver) {
+fn remap<K: Kernel>(setup: &Setup, p: &Particles, w: &mut Solver) {
     w.patches.par_iter_mut().for_each(|patch| {
         for n in patch.nodes.iter_mut() {
             n.p = DVec2::ZERO;
@@ -447,6 +552,7 @@ fn remap<K: Kernel>(p: &Particles, w: &mut Solver) {
                 transfer::scatter_momentum::<K>(src, (start, end), &mut view, cache);
             });
     }
+    fold(setup, w);
 }
 
 /// MUSL: stress from the re-mapped grid velocities over the time `window` (start,

@@ -104,6 +104,7 @@ pub fn split_points<'a>(
 ) -> Vec<Option<Points<'a>>> {
     let w = p.branch_width;
     let vol0 = &p.vol0;
+    let mass = &p.mass;
     let mut pos = split(&mut p.pos, layout, 1).into_iter();
     let mut vel = split(&mut p.vel, layout, 1).into_iter();
     let mut def = split(&mut p.def, layout, 1).into_iter();
@@ -119,6 +120,7 @@ pub fn split_points<'a>(
         .map(|&(_, _, start, end)| {
             let mut take = || -> Option<Points<'a>> {
                 Some(Points {
+                    mass: &mass[start..end],
                     pos: pos.next()?,
                     vel: vel.next()?,
                     mat: MaterialView {

@@ -20,6 +20,9 @@ pub struct Place {
     pub inv_h: f64,
     /// GIMP half-width (grid units).
     pub lp: f64,
+    /// Along a periodic y: the domain's lower y and the period (points that cross the
+    /// seam come back on the other side).
+    pub wrap_y: Option<(f64, f64)>,
 }
 
 /// Weights of one point: 3 × 3 tensor-product stencil from stored node `(col, row)`.
@@ -42,6 +45,20 @@ pub struct Stencil {
 }
 
 impl Place {
+    /// Where a point that moved to `x` is kept: `x`, or along a periodic y its image in
+    /// the domain.
+    #[inline(always)]
+    pub fn keep(&self, mut x: DVec2) -> DVec2 {
+        if let Some((lo, l)) = self.wrap_y {
+            if x.y >= lo + l {
+                x.y -= l;
+            } else if x.y < lo {
+                x.y += l;
+            }
+        }
+        x
+    }
+
     /// The stencil of a point at `x`.
     #[inline(always)]
     pub fn stencil<K: Kernel>(&self, x: DVec2) -> Stencil {
@@ -223,6 +240,8 @@ fn velocity_gradient<K: Kernel>(
 
 /// Mutable per-point fields a gather writes.
 pub struct Points<'a> {
+    /// Masses.
+    pub mass: &'a [f64],
     /// Positions (read; written unless `next` is given).
     pub pos: &'a mut [DVec2],
     /// Velocities.
@@ -275,6 +294,8 @@ pub struct Seen {
     pub drifted: bool,
     /// Some point left the domain or is not finite.
     pub escaped: bool,
+    /// The points' kinetic energy change (with the ledger).
+    pub ke: f64,
 }
 
 impl Seen {
@@ -285,6 +306,7 @@ impl Seen {
             max: DVec2::NEG_INFINITY,
             drifted: false,
             escaped: false,
+            ke: 0.0,
         }
     }
 
@@ -295,6 +317,7 @@ impl Seen {
             max: self.max.max(o.max),
             drifted: self.drifted || o.drifted,
             escaped: self.escaped || o.escaped,
+            ke: self.ke + o.ke,
         }
     }
 
@@ -314,9 +337,10 @@ impl Seen {
 multiversion! {
 /// The grid-to-particle update of one strip: FLIP/PIC velocity, position, and (`STRESS`,
 /// USL and USAVG) the stress from the updated grid velocity (the model carries its own
-/// step, the whole or the second half of `dt`).
+/// step, the whole or the second half of `dt`). With `KE`, the points' kinetic energy
+/// change is summed (the energy ledger).
 #[allow(clippy::too_many_arguments)]
-pub fn gather[K: Kernel, M: Model, const STRESS: bool][K, M, STRESS](
+pub fn gather[K: Kernel, M: Model, const STRESS: bool, const KE: bool][K, M, STRESS, KE](
     place: &Place,
     hi: DVec2,
     model: &M,
@@ -349,13 +373,17 @@ pub fn gather[K: Kernel, M: Model, const STRESS: bool][K, M, STRESS](
                 }
             }
         }
+        let old = pts.vel[i];
         let flipped = pts.vel[i] + dt * a_sum;
         pts.vel[i] = if flip == 1.0 {
             flipped
         } else {
             flip * flipped + (1.0 - flip) * v
         };
-        let nx = x + dt * v;
+        if KE {
+            seen.ke += 0.5 * pts.mass[i] * (pts.vel[i].length_squared() - old.length_squared());
+        }
+        let nx = place.keep(x + dt * v);
         match pts.next.as_deref_mut() {
             Some(next) => next[i] = nx,
             None => pts.pos[i] = nx,
@@ -402,7 +430,7 @@ pub fn move_rigid(
     let mut seen = Seen::empty();
     for i in 0..pts.pos.len() {
         pts.vel[i] = v;
-        let nx = pts.pos[i] + dt * v;
+        let nx = place.keep(pts.pos[i] + dt * v);
         match pts.next.as_deref_mut() {
             Some(next) => next[i] = nx,
             None => pts.pos[i] = nx,

@@ -34,6 +34,7 @@ fn setup(
             lo: DVec2::ZERO,
             h: 0.125,
             cells: [32, 16],
+            periodic_y: false,
         },
         shape,
         half_width: 0.25,
@@ -43,9 +44,11 @@ fn setup(
         materials: vec![elastic("linear"), elastic("neo_hookean")],
         bodies,
         contact: ContactTable::new(n, ContactLaw::Coulomb { mu: 0.0 }),
+        crowd: Default::default(),
         separation: Some(contact::touching_separation(shape, 2) * 1.05 * 0.125),
         walls,
         gravity: DVec2::ZERO,
+        ledger: false,
     };
     s.validate().unwrap();
     s

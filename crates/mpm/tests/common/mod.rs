@@ -42,6 +42,7 @@ pub fn setup(
             lo: DVec2::from(lo),
             h,
             cells,
+            periodic_y: false,
         },
         shape,
         half_width: 0.25,
@@ -51,9 +52,11 @@ pub fn setup(
         materials,
         bodies,
         contact: ContactTable::new(n, ContactLaw::Coulomb { mu: 0.0 }),
+        crowd: Default::default(),
         separation: Some(contact::touching_separation(shape, 2) * 1.05 * h),
         walls: [None; 4],
         gravity: DVec2::ZERO,
+        ledger: false,
     };
     s.validate().unwrap();
     let dt = safety * timestep::critical_dt(&s, &Particles::default());

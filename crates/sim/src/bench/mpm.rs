@@ -171,6 +171,7 @@ pub fn setup(o: &Options) -> Result<(Setup, Particles, f64), String> {
             lo: DVec2::ZERO,
             h,
             cells: [o.grid, o.grid],
+            periodic_y: false,
         },
         shape,
         half_width: (0.5 * pitch.max_element() / h).min(0.5),
@@ -180,10 +181,12 @@ pub fn setup(o: &Options) -> Result<(Setup, Particles, f64), String> {
         materials: vec![material],
         bodies,
         contact: ContactTable::new(o.bodies, ContactLaw::Coulomb { mu: 0.3 }),
+        crowd: Default::default(),
         // As scenarios do by default: bodies are corrected only where they touch.
         separation: Some(grains_mpm::contact::touching_separation(shape, 2) * 1.05 * h),
         walls: [Some(0.0); 4],
         gravity: DVec2::new(0.0, -9.8),
+        ledger: false,
     };
     s.validate().map_err(|e| e.to_string())?;
     Ok((s, p, 2e-4 * 128.0 / o.grid as f64))

@@ -131,10 +131,36 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
             "must be 1 to 8 (points per cell along each axis)",
         ));
     }
+    if let Some(l) = g.periodic_y {
+        let height = g.hi[1] - g.lo[1];
+        if !(l.is_finite() && (l - height).abs() <= 1e-9 * height) {
+            return Err(InputError::new(
+                "grid.periodic_y",
+                l,
+                format!(
+                    "must equal the grid's height hi.y − lo.y = {} ({} cells of {})",
+                    height.shown(),
+                    cells[1],
+                    g.cell_size.shown()
+                ),
+            ));
+        }
+        if cells[1] < 4 {
+            return Err(InputError::new(
+                "grid.periodic_y",
+                l,
+                format!(
+                    "a periodic y needs at least 4 cells along y; the grid has {}",
+                    cells[1]
+                ),
+            ));
+        }
+    }
     let grid = Grid {
         lo: DVec2::from(g.lo),
         h: g.cell_size,
         cells,
+        periodic_y: g.periodic_y.is_some(),
     };
     let shape = match s.method.shape.as_str() {
         "linear" => ShapeFunction::Linear,
@@ -208,7 +234,21 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
                     format!("must be one of {m:?}"),
                 )
             })?;
-        let geometry = body_shape(s, k, &names)?;
+        let geometry = body_shape(s, k, &names, grid.period_y())?;
+        if let Some(l) = grid.period_y() {
+            let (lo, hi) = geometry.bounds();
+            if hi.y - lo.y > l * (1.0 + 1e-9) {
+                return Err(InputError::new(
+                    format!("{key}.geometry"),
+                    format!("{:?}", b.geometry),
+                    format!(
+                        "spans {} m along y, more than the periodic length grid.periodic_y = {} m (it would overlap itself)",
+                        (hi.y - lo.y).shown(),
+                        l.shown()
+                    ),
+                ));
+            }
+        }
         let (v, gradient, table) = motion(b, &key)?;
         if let Some(h) = &b.temperature {
             h.validate(&format!("{key}.temperature"))?;
@@ -220,7 +260,12 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
                 ));
             }
         }
-        let points = geometry.fill(grid.lo, pitch);
+        // Along a periodic y the points of a body across the seam come back inside.
+        let points: Vec<DVec2> = geometry
+            .fill(grid.lo, pitch)
+            .into_iter()
+            .map(|x| grid.wrap(x))
+            .collect();
         if points.is_empty() {
             return Err(InputError::new(
                 format!("{key}.geometry"),
@@ -302,16 +347,40 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     let mut contact = ContactTable::new(s.bodies.len(), law("contact", c.law, c.mu, c.strength)?);
     for (k, p) in s.contact.pair.iter().enumerate() {
         let key = format!("contact.pair[{k}]");
-        let a = body_index(&format!("{key}.bodies"), &p.bodies[0])?;
-        let b = body_index(&format!("{key}.bodies"), &p.bodies[1])?;
-        if a == b {
-            return Err(InputError::new(
-                format!("{key}.bodies"),
-                format!("{:?}", p.bodies),
-                "must name two different bodies",
-            ));
+        // A name ending in '*' stands for every body whose name starts with the rest
+        // (the grains of a packing).
+        let matching = |name: &str| -> Result<Vec<usize>, InputError> {
+            match name.strip_suffix('*') {
+                Some(stem) => {
+                    let list: Vec<usize> = (0..names.len())
+                        .filter(|&b| names[b].starts_with(stem))
+                        .collect();
+                    if list.is_empty() {
+                        return Err(InputError::new(
+                            format!("{key}.bodies"),
+                            format!("\"{name}\""),
+                            format!("matches no body; must match one of {names:?}"),
+                        ));
+                    }
+                    Ok(list)
+                }
+                None => Ok(vec![body_index(&format!("{key}.bodies"), name)?]),
+            }
+        };
+        let (aa, bb) = (matching(&p.bodies[0])?, matching(&p.bodies[1])?);
+        let pair_law = law(&key, p.law, p.mu, p.strength)?;
+        for &a in &aa {
+            for &b in &bb {
+                if a == b {
+                    return Err(InputError::new(
+                        format!("{key}.bodies"),
+                        format!("{:?}", p.bodies),
+                        "must name two different bodies",
+                    ));
+                }
+                contact.set(a, b, pair_law);
+            }
         }
-        contact.set(a, b, law(&key, p.law, p.mu, p.strength)?);
     }
     if contact.distinct() > 255 {
         return Err(InputError::new(
@@ -358,9 +427,14 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         materials: s.materials.clone(),
         bodies,
         contact,
+        crowd: s.contact.multi_body,
         separation,
         walls,
         gravity: DVec2::from(s.gravity),
+        ledger: s.shear.is_some()
+            || s.checks
+                .iter()
+                .any(|c| matches!(c, super::scenario::CheckSpec::EnergyLedger { .. })),
     };
     setup.validate()?;
     let dt_critical = timestep::critical_dt(&setup, &particles);
@@ -387,8 +461,14 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     })
 }
 
-/// Body `k`'s shape: its geometry minus the shapes of the bodies its `minus` names.
-fn body_shape(s: &Scenario, k: usize, names: &[&str]) -> Result<Geometry, InputError> {
+/// Body `k`'s shape: its geometry minus the shapes of the bodies its `minus` names (and,
+/// along a periodic y of period `period`, minus their images a period up and down).
+fn body_shape(
+    s: &Scenario,
+    k: usize,
+    names: &[&str],
+    period: Option<f64>,
+) -> Result<Geometry, InputError> {
     let b = &s.bodies[k];
     let key = format!("body[{k}]");
     b.geometry.validate().map_err(|e| {
@@ -425,6 +505,18 @@ fn body_shape(s: &Scenario, k: usize, names: &[&str]) -> Result<Geometry, InputE
                 ))
             }
         }
+    }
+    if let Some(l) = period {
+        let images: Vec<Geometry> = holes
+            .iter()
+            .flat_map(|g| {
+                [
+                    g.translated(DVec2::new(0.0, l)),
+                    g.translated(DVec2::new(0.0, -l)),
+                ]
+            })
+            .collect();
+        holes.extend(images);
     }
     let g = b.geometry.clone().minus(holes);
     g.validate()

@@ -63,6 +63,7 @@ pub fn cost(n: u64, nodes: u64, branches: u64, steps: u64, threads: usize) -> Es
 
 /// What `grains check` prints for an MPM scenario.
 pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, String> {
+    let s = &super::packing::expanded(s, src)?;
     fits(s, src, threads)?;
     let a = prepare(s, src)?;
     let setup = &a.setup;
@@ -129,8 +130,11 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
         })
         .collect();
     if !bonds.is_empty() {
+        // A packing bonds hundreds of grains: the first pairs, then how many more.
+        const SHOWN: usize = 6;
         let text: Vec<String> = bonds
             .iter()
+            .take(SHOWN)
             .map(|b| {
                 format!(
                     "{}–{}: {:e} Pa, then μ = {}",
@@ -141,7 +145,12 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
                 )
             })
             .collect();
-        d.lines.push(Line::new("bonds", bonds, text.join("; ")));
+        let more = match bonds.len().saturating_sub(SHOWN) {
+            0 => String::new(),
+            n => format!("; and {n} more pairs"),
+        };
+        d.lines
+            .push(Line::new("bonds", bonds, text.join("; ") + &more));
     }
     let c = setup
         .materials

@@ -5,7 +5,7 @@
 //! a disk and the ring around it for the concentric cylinders).
 
 use super::concentric::Concentric;
-use super::scenario::{CheckSpec, Region, Scenario};
+use super::scenario::{CheckSpec, Region, Scenario, ShearSpec};
 use glam::DVec2;
 use grains_core::input::{positive, InputError};
 use grains_mpm::{Geometry, Material, Motion, Setup};
@@ -17,6 +17,20 @@ pub fn validate(
     shapes: &[Geometry],
     names: &[&str],
 ) -> Result<(), InputError> {
+    if let Some(cell) = &s.shear {
+        shear(cell, setup, names)?;
+    } else if let Some((k, c)) = s
+        .checks
+        .iter()
+        .enumerate()
+        .find(|(_, c)| matches!(c, CheckSpec::ShearStrainReached { .. }))
+    {
+        return Err(InputError::new(
+            format!("check[{k}].kind"),
+            format!("\"{}\"", c.name()),
+            "a shear_strain_reached check needs a [shear] cell",
+        ));
+    }
     for (k, c) in s.checks.iter().enumerate() {
         let key = format!("check[{k}]");
         for (field, b) in c.bodies() {
@@ -191,6 +205,49 @@ pub fn validate(
     Ok(())
 }
 
+/// A `[shear]` cell: its boundaries are rigid bodies, its binder a free one.
+fn shear(cell: &ShearSpec, setup: &Setup, names: &[&str]) -> Result<(), InputError> {
+    let find = |key: String, name: &str| {
+        names.iter().position(|n| *n == name).ok_or_else(|| {
+            InputError::new(
+                key,
+                format!("\"{name}\""),
+                format!("must be one of {names:?}"),
+            )
+        })
+    };
+    for (side, list) in [("left", &cell.left), ("right", &cell.right)] {
+        if list.is_empty() {
+            return Err(InputError::new(
+                format!("shear.{side}"),
+                "[]",
+                "name the rigid bodies of the boundary",
+            ));
+        }
+        for (k, name) in list.iter().enumerate() {
+            let b = find(format!("shear.{side}[{k}]"), name)?;
+            if setup.bodies[b].motion == Motion::Free {
+                return Err(InputError::new(
+                    format!("shear.{side}[{k}]"),
+                    format!("\"{name}\""),
+                    "must be a rigid body (rigid = true): a boundary moves as prescribed",
+                ));
+            }
+        }
+    }
+    if let Some(name) = &cell.binder {
+        let b = find("shear.binder".into(), name)?;
+        if setup.bodies[b].motion != Motion::Free || setup.contact.bond_of(b) <= 0.0 {
+            return Err(InputError::new(
+                "shear.binder",
+                format!("\"{name}\""),
+                "must be a free body bonded to the grains",
+            ));
+        }
+    }
+    positive("shear.lock_threshold", cell.lock_threshold)
+}
+
 /// The check's bounds that must be finite and positive, by key.
 fn bounds(c: &CheckSpec) -> Vec<(&'static str, f64)> {
     match c {
@@ -210,7 +267,10 @@ fn bounds(c: &CheckSpec) -> Vec<(&'static str, f64)> {
         | CheckSpec::TangentialMomentumChange { max, .. }
         | CheckSpec::InPlaneStress { max, .. }
         | CheckSpec::EnergyBalance { max, .. }
+        | CheckSpec::EnergyLedger { max, .. }
+        | CheckSpec::ContactMomentumImbalance { max, .. }
         | CheckSpec::StressFreeAfterDebond { max, .. } => vec![("max", *max)],
+        CheckSpec::ShearStrainReached { min, .. } => vec![("min", *min)],
         CheckSpec::Rotation { max_deg, .. } => vec![("max_deg", *max_deg)],
         CheckSpec::EnergyLossBelowReference { .. } | CheckSpec::DebondSpeedOverRayleigh { .. } => {
             vec![]

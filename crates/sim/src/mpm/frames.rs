@@ -92,7 +92,8 @@ pub fn points_polydata(setup: &Setup, s: &State) -> PolyData {
 }
 
 /// The domain's nodes (ghosts left out) with the fields of the last step summed over
-/// bodies: mass, centre-of-mass velocity, number of bodies, contact flags.
+/// bodies: mass, centre-of-mass velocity, number of bodies, contact flags (along a
+/// periodic y the top row repeats the bottom one).
 pub fn grid_vtu(setup: &Setup, w: &Solver) -> UnstructuredGrid {
     let grid = &setup.grid;
     let [nx, ny] = [grid.cells[0] + 1, grid.cells[1] + 1];
@@ -100,9 +101,11 @@ pub fn grid_vtu(setup: &Setup, w: &Solver) -> UnstructuredGrid {
     let mut mom = vec![glam::DVec2::ZERO; nx * ny];
     let mut bodies = vec![0i32; nx * ny];
     let mut touched = vec![0i32; nx * ny];
+    let wrap = grid.canonical_rows();
     for patch in &w.patches {
         for (k, n) in patch.nodes.iter().enumerate() {
             let [c, r] = patch.stored(k);
+            let r = wrap.map_or(r, |w| w.canonical(r));
             if n.m <= 0.0 || c < GHOST || r < GHOST || c - GHOST >= nx || r - GHOST >= ny {
                 continue;
             }
@@ -111,6 +114,16 @@ pub fn grid_vtu(setup: &Setup, w: &Solver) -> UnstructuredGrid {
             mom[at] += n.p;
             bodies[at] += 1;
             touched[at] |= n.touched as i32;
+        }
+    }
+    if wrap.is_some() {
+        // The top node row is the bottom one.
+        for i in 0..nx {
+            let (a, z) = (i, (ny - 1) * nx + i);
+            mass[z] = mass[a];
+            mom[z] = mom[a];
+            bodies[z] = bodies[a];
+            touched[z] = touched[a];
         }
     }
     let mut u = UnstructuredGrid::default();

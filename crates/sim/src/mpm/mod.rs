@@ -3,12 +3,15 @@
 //! outputs (history rows, frames, plots, figures, checks).
 
 pub mod assemble;
+pub mod cell;
 pub mod check;
 pub mod check_input;
 pub mod concentric;
 pub mod debond;
 pub mod drive;
+pub mod exchange;
 pub mod frames;
+pub mod packing;
 pub mod plots;
 pub mod probes;
 pub mod reference;
@@ -48,6 +51,8 @@ pub struct Mpm {
     pub grid_frames: bool,
     /// Rigid bodies whose velocity follows a table.
     pub drives: Vec<(usize, drive::VelocityTable)>,
+    /// What the contact corrections exchanged so far.
+    pub exchange: exchange::Exchange,
     /// The last sample, against which rotations are unwrapped.
     last: Option<MpmSample>,
 }
@@ -87,6 +92,7 @@ impl Mpm {
             dt: a.dt,
             grid_frames,
             drives: a.drives.clone(),
+            exchange: exchange::Exchange::new(a.setup.bodies.len()),
             last: None,
         }
     }
@@ -127,6 +133,7 @@ fn to_sample(d: &Diagnostics, stress: &[f64], t: f64, prev: Option<&Sample>) -> 
                 mean_stress: stress[b],
                 debonded: x.lengths.debonded,
                 surface: x.lengths.surface,
+                ..Default::default()
             }
         })
         .collect();
@@ -138,6 +145,7 @@ fn to_sample(d: &Diagnostics, stress: &[f64], t: f64, prev: Option<&Sample>) -> 
         thermal_work: d.thermal_work,
         momentum: d.momentum,
         bodies,
+        ..Default::default()
     }
 }
 
@@ -156,7 +164,9 @@ impl Simulation for Mpm {
             let v = table.over_step(self.state.time, self.dt);
             self.setup.bodies[*b].motion = Motion::Prescribed(v);
         }
-        step(&self.setup, &mut self.state, &mut self.solver, self.dt).map_err(|e| e.to_string())
+        step(&self.setup, &mut self.state, &mut self.solver, self.dt).map_err(|e| e.to_string())?;
+        self.exchange.step(&self.setup, &self.state.touch, self.dt);
+        Ok(())
     }
 
     fn sample(&mut self) -> MpmSample {
@@ -164,7 +174,19 @@ impl Simulation for Mpm {
         let d = measure(&self.setup, &self.state.particles, ranges);
         let stress = mean_stresses(&self.state.particles, ranges);
         let prev = self.last.as_ref().map(|s| &s.sample);
-        let sample = to_sample(&d, &stress, self.state.time, prev);
+        let forces = self.exchange.forces(self.state.time);
+        let mut sample = to_sample(&d, &stress, self.state.time, prev);
+        let x = &self.exchange;
+        for (b, s) in sample.bodies.iter_mut().enumerate() {
+            (s.force, s.displacement) = (forces[b], x.displacement[b]);
+            match self.setup.materials[self.setup.bodies[b].material] {
+                grains_mpm::Material::J2Plastic { .. } => sample.plastic += d.bodies[b].dissipated,
+                grains_mpm::Material::Maxwell { .. } => sample.viscous += d.bodies[b].dissipated,
+                _ => {}
+            }
+        }
+        (sample.friction, sample.bond, sample.work) = (x.friction, x.bond, x.work);
+        sample.transfer = x.transfer;
         let s = MpmSample {
             diagnostics: d,
             sample,

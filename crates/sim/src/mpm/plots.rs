@@ -9,6 +9,9 @@ use grains_core::plot::{time_label, LinePlot, Outline, ParticleMap, Series};
 use grains_mpm::{Geometry, Setup};
 use std::path::Path;
 
+/// Most bodies that get a motion and a rotation plot each.
+pub const MOTION_PLOTS: usize = 24;
+
 /// The points at one moment, coloured by a value.
 #[derive(Clone, Debug, Default)]
 pub struct Snapshot {
@@ -85,7 +88,9 @@ pub fn write_all(
         &t,
         &[("x", px.clone()), ("y", py.clone()), ("|p|", mag)],
     )?;
-    for b in &setup.bodies {
+    // One plot per body helps with a few bodies, not with a packing of hundreds.
+    let few = setup.bodies.len() <= MOTION_PLOTS;
+    for b in setup.bodies.iter().filter(|_| few) {
         let n = &b.name;
         line(
             dir,
@@ -194,6 +199,27 @@ pub fn bond_maps(
     Ok(())
 }
 
+/// Point maps: (file, caption, colour-bar label, snapshot) each.
+pub fn maps(
+    dir: &Path,
+    maps: &[(String, String, String, Snapshot)],
+    point_radius: f64,
+) -> anyhow::Result<()> {
+    for (file, caption, label, s) in maps {
+        let radii = vec![point_radius; s.pos.len()];
+        ParticleMap {
+            title: &format!("{caption}, t = {}", time_label(s.t)),
+            centres: &s.pos,
+            radii: &radii,
+            values: &s.value,
+            value_label: label,
+            outlines: &[],
+        }
+        .write_png(&dir.join(file))?;
+    }
+    Ok(())
+}
+
 /// A body's initial outline: circles as 128-gons, rectangles, polygons, the parts of a
 /// difference.
 fn outlines(g: &Geometry) -> Vec<Outline> {
@@ -230,6 +256,7 @@ fn outlines(g: &Geometry) -> Vec<Outline> {
             .into_iter()
             .chain(minus.iter().flat_map(outlines))
             .collect(),
+        Geometry::Union { parts } => parts.iter().flat_map(outlines).collect(),
     }
 }
 

@@ -40,6 +40,11 @@ pub struct BodySample {
     pub debonded: f64,
     /// Its perimeter as the grid sees it (m; 0 without a bond).
     pub surface: f64,
+    /// A rigid body: the mean force it exerted on the material since the previous row
+    /// (N per unit thickness).
+    pub force: DVec2,
+    /// A rigid body: how far its prescribed velocity has moved it (m).
+    pub displacement: DVec2,
 }
 
 /// One history row.
@@ -59,6 +64,28 @@ pub struct Sample {
     pub momentum: DVec2,
     /// Per body.
     pub bodies: Vec<BodySample>,
+    /// Plastic work of the J2 bodies so far.
+    pub plastic: f64,
+    /// Viscous dissipation of the Maxwell bodies so far.
+    pub viscous: f64,
+    /// Kinetic energy taken out by Coulomb contacts and walls so far.
+    pub friction: f64,
+    /// Kinetic energy taken out where bonds hold or fail so far.
+    pub bond: f64,
+    /// Work of the rigid bodies on the material so far.
+    pub work: f64,
+    /// Energy the grid-to-point transfer lost so far (numerical).
+    pub transfer: f64,
+}
+
+impl Sample {
+    /// The whole ledger: energy + plastic + viscous + friction + bond + transfer −
+    /// thermal work − boundary work; constant up to the stress update's own error.
+    pub fn ledger(&self) -> f64 {
+        self.energy + self.dissipated + self.friction + self.bond + self.transfer
+            - self.thermal_work
+            - self.work
+    }
 }
 
 /// The record of a run.

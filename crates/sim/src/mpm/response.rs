@@ -271,6 +271,31 @@ impl Response {
                     "largest |B(t) − B(0)|, B = kinetic + strain + potential + dissipated − thermal work, over the largest of the initial energy, the dissipated energy and |thermal work|: constant without rigid movers or wall friction",
                 )
             }
+            (CheckSpec::ContactMomentumImbalance { name, max }, _) => {
+                let x = &sim.exchange;
+                Check::at_most(name, x.imbalance.length() / x.boundary_impulse, *max).with_note(
+                    "|Σ over steps of the momentum the free bodies' fields gave one another| over Σ over steps of |the momentum the rigid bodies gave them|",
+                )
+            }
+            (CheckSpec::EnergyLedger { name, max }, _) => {
+                let s = &rec.samples;
+                let l0 = s.first().map_or(f64::NAN, |x| x.ledger());
+                let drift = s
+                    .iter()
+                    .map(|x| (x.ledger() - l0).abs())
+                    .fold(0.0, f64::max);
+                let scale = s
+                    .iter()
+                    .map(|x| {
+                        x.work
+                            .abs()
+                            .max(x.dissipated + x.friction + x.bond + x.transfer)
+                    })
+                    .fold(s.first().map_or(0.0, |x| x.energy.abs()), f64::max);
+                Check::at_most(name, drift / scale, *max).with_note(
+                    "largest |L(t) − L(0)|, L = kinetic + strain + potential + plastic + viscous + friction + bond + transfer − thermal work − boundary work, over the largest of the boundary work, the energy taken out and the initial energy",
+                )
+            }
             _ => return None,
         })
     }

@@ -27,15 +27,24 @@ enum Extra {
     DebondedLength,
     /// Its perimeter as the grid sees it (bonded bodies).
     SurfaceLength,
+    /// Mean force it exerted on the material since the last row, x and y (rigid bodies).
+    ForceX,
+    /// The y component.
+    ForceY,
+    /// Work it did on the material so far (rigid bodies).
+    Work,
 }
 
 impl Extra {
-    const ALL: [(Extra, &'static str); 5] = [
+    const ALL: [(Extra, &'static str); 8] = [
         (Extra::Temperature, "temperature"),
         (Extra::PlasticMax, "plastic_max"),
         (Extra::Dissipated, "dissipated"),
         (Extra::DebondedLength, "debonded_length"),
         (Extra::SurfaceLength, "surface_length"),
+        (Extra::ForceX, "force_x"),
+        (Extra::ForceY, "force_y"),
+        (Extra::Work, "work"),
     ];
 
     fn applies(self, setup: &Setup, b: usize) -> bool {
@@ -46,6 +55,9 @@ impl Extra {
             Extra::PlasticMax => matches!(m, Material::J2Plastic { .. }),
             Extra::Dissipated => matches!(m, Material::J2Plastic { .. } | Material::Maxwell { .. }),
             Extra::DebondedLength | Extra::SurfaceLength => setup.contact.bond_of(b) > 0.0,
+            Extra::ForceX | Extra::ForceY | Extra::Work => {
+                body.motion != grains_mpm::Motion::Free && setup.multi_body()
+            }
         }
     }
 
@@ -72,6 +84,16 @@ impl Recorded for Mpm {
             "momentum_x",
             "momentum_y",
             "max_speed",
+            "plastic",
+            "viscous",
+            "friction",
+            "bond_loss",
+            "transfer_loss",
+            "boundary_work",
+            "ledger",
+            "imbalance_x",
+            "imbalance_y",
+            "boundary_impulse",
         ]
         .map(String::from)
         .to_vec();
@@ -120,6 +142,16 @@ impl Recorded for Mpm {
             d.momentum.x,
             d.momentum.y,
             d.max_speed,
+            s.sample.plastic,
+            s.sample.viscous,
+            s.sample.friction,
+            s.sample.bond,
+            s.sample.transfer,
+            s.sample.work,
+            s.sample.ledger(),
+            self.exchange.imbalance.x,
+            self.exchange.imbalance.y,
+            self.exchange.boundary_impulse,
         ];
         for (b, x) in s.sample.bodies.iter().enumerate() {
             let t = self.state.touch.get(b).copied().unwrap_or_default();
@@ -145,6 +177,9 @@ impl Recorded for Mpm {
                     Extra::Dissipated => d.bodies[b].dissipated,
                     Extra::DebondedLength => d.bodies[b].lengths.debonded,
                     Extra::SurfaceLength => d.bodies[b].lengths.surface,
+                    Extra::ForceX => x.force.x,
+                    Extra::ForceY => x.force.y,
+                    Extra::Work => self.exchange.work_by[b],
                 });
             }
         }
@@ -168,6 +203,7 @@ pub fn prepare(s: &Scenario, src: &Source) -> Result<Assembled, String> {
                 )
             })?;
             let rs: Scenario = grains_core::input::parse_toml(&r.text, &r.origin)?;
+            let rs = super::packing::expanded(&rs, &r)?;
             let ra = assemble(&rs).map_err(|e| format!("{}: {e}", r.origin))?;
             if !ra.setup.bodies.iter().any(|b| &b.name == body) {
                 return Err(format!(
@@ -182,6 +218,7 @@ pub fn prepare(s: &Scenario, src: &Source) -> Result<Assembled, String> {
 
 /// Runs `s` (read from `src`) into `opts.out`.
 pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished, RunError> {
+    let s = &super::packing::expanded(s, src).map_err(RunError::Input)?;
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
     let a = prepare(s, src).map_err(RunError::Input)?;
     let out = opts.out.clone();
@@ -244,6 +281,10 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
         plots::write_curves(&dir, &d.curves(&sim, &watch.record))?;
         plots::bond_maps(&dir, &d.snapshots, &a.geometry, pitch)?;
     }
+    if let Some(c) = &watch.cell {
+        plots::write_curves(&dir, &c.curves(&watch.record.samples))?;
+        plots::maps(&dir, &c.maps, pitch)?;
+    }
     let mut counts = serde_json::Map::new();
     counts.insert("bodies".into(), sim.setup.bodies.len().into());
     let costs = Costs {
@@ -262,6 +303,7 @@ pub fn reference_loss(path: &Path, body: &str, k: usize) -> anyhow::Result<f64> 
     let src = Source::read(path).map_err(anyhow::Error::msg)?;
     let s: Scenario =
         grains_core::input::parse_toml(&src.text, &src.origin).map_err(anyhow::Error::msg)?;
+    let s = super::packing::expanded(&s, &src).map_err(anyhow::Error::msg)?;
     let a = assemble(&s).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let b = a
         .setup

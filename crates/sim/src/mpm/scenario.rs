@@ -32,6 +32,9 @@ pub struct Scenario {
     /// Bodies.
     #[serde(rename = "body", default)]
     pub bodies: Vec<BodySpec>,
+    /// Packing files whose disks become bodies.
+    #[serde(rename = "packing", default)]
+    pub packings: Vec<super::packing::PackingSpec>,
     /// Contact law between bodies.
     #[serde(default)]
     pub contact: ContactSpec,
@@ -40,9 +43,36 @@ pub struct Scenario {
     /// What is written and how often.
     #[serde(default)]
     pub output: crate::output::OutputSpec,
+    /// A cell sheared between two rigid boundaries (stresses, strain, locking).
+    #[serde(default)]
+    pub shear: Option<ShearSpec>,
     /// Validation checks written into summary.json.
     #[serde(rename = "check", default)]
     pub checks: Vec<CheckSpec>,
+}
+
+/// `[shear]`: a cell sheared between two rigid boundaries moving along y, the left one at
+/// x = lo.x and the right one at x = hi.x (the paper's Figs. 6–8). The force each
+/// boundary exerts on the material is the sum of its bodies' contact reactions; over
+/// the boundary's length (the grid's height) it is the shear stress σ_xy and the normal
+/// stress σ_xx there. The shear strain is the boundaries' relative displacement over
+/// the grid's width.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShearSpec {
+    /// The rigid bodies that make up the left boundary.
+    pub left: Vec<String>,
+    /// The rigid bodies that make up the right boundary.
+    pub right: Vec<String>,
+    /// A locking event: the shear stresses on both boundaries above this (Pa), i.e. a
+    /// chain of grains carrying the load across the cell; its peak (mean of the two) and
+    /// strain are reported, and the points at the first event's peak are drawn (the force
+    /// chains of Fig. 7).
+    pub lock_threshold: f64,
+    /// The binder, if any: the grains' debonded length is the length of its interface
+    /// that has debonded.
+    #[serde(default)]
+    pub binder: Option<String>,
 }
 
 /// `[grid]`: the domain, its cells and the material points per cell.
@@ -58,6 +88,10 @@ pub struct GridSpec {
     /// Material points per cell along each axis (2 → 4 points per cell).
     #[serde(default = "default_ppc")]
     pub particles_per_cell: u32,
+    /// Periodic along y with this period (m): the bottom and top edges are one line. It
+    /// must be the domain's height `hi.y − lo.y`.
+    #[serde(default)]
+    pub periodic_y: Option<f64>,
 }
 
 fn default_ppc() -> u32 {
@@ -204,6 +238,12 @@ pub struct ContactSpec {
     /// multiple of its value for touching bodies.
     #[serde(default = "default_separation_factor")]
     pub separation_factor: f64,
+    /// Where more than two bodies (or a rigid body and another) meet at a node:
+    /// `"pairwise"` (each pair's changes equal and opposite; the default) or `"lumped"`
+    /// (each body against the sum of the others, the earlier rule, kept to measure
+    /// what it loses).
+    #[serde(default)]
+    pub multi_body: grains_mpm::Crowd,
     /// Overrides.
     #[serde(default)]
     pub pair: Vec<PairSpec>,
@@ -225,6 +265,7 @@ impl Default for ContactSpec {
             strength: None,
             separation_test: true,
             separation_factor: default_separation_factor(),
+            multi_body: Default::default(),
             pair: Vec::new(),
         }
     }
@@ -461,6 +502,32 @@ pub enum CheckSpec {
         /// Largest fraction allowed.
         max: f64,
     },
+    /// The whole energy ledger with contact and rigid movers: the largest drift of
+    /// kinetic + strain + potential + plastic + viscous + friction + bond − thermal work −
+    /// boundary work over the run, as a fraction of the largest energy that went through
+    /// it (the boundary work, the energy taken out, the initial total).
+    EnergyLedger {
+        /// Check name.
+        name: String,
+        /// Largest fraction allowed.
+        max: f64,
+    },
+    /// Where several bodies meet: |Σ over steps of the momentum the free bodies gave one
+    /// another| over Σ over steps of |the momentum the rigid bodies gave them|: zero if
+    /// every exchange is equal and opposite.
+    ContactMomentumImbalance {
+        /// Check name.
+        name: String,
+        /// Largest fraction allowed.
+        max: f64,
+    },
+    /// A `[shear]` cell: the shear strain reached at the end.
+    ShearStrainReached {
+        /// Check name.
+        name: String,
+        /// Smallest strain accepted (1 = 100 %).
+        min: f64,
+    },
     /// Concentric cylinders: the mean in-plane stress of the inner disk's core (r <
     /// `core`·a), averaged over the samples from `after` on, against the static
     /// plane-strain solution σ_rr(a) for the temperature changes at the end.
@@ -551,7 +618,10 @@ impl CheckSpec {
         match self {
             CheckSpec::InitialEnergy { .. }
             | CheckSpec::InitialMomentum { .. }
-            | CheckSpec::EnergyBalance { .. } => vec![],
+            | CheckSpec::EnergyBalance { .. }
+            | CheckSpec::EnergyLedger { .. }
+            | CheckSpec::ContactMomentumImbalance { .. }
+            | CheckSpec::ShearStrainReached { .. } => vec![],
             CheckSpec::EnergyLoss { body, .. }
             | CheckSpec::TangentialMomentumChange { body, .. }
             | CheckSpec::Rotation { body, .. }
@@ -593,6 +663,9 @@ impl CheckSpec {
             | CheckSpec::InPlaneStress { name, .. }
             | CheckSpec::OutOfPlaneStress { name, .. }
             | CheckSpec::EnergyBalance { name, .. }
+            | CheckSpec::EnergyLedger { name, .. }
+            | CheckSpec::ContactMomentumImbalance { name, .. }
+            | CheckSpec::ShearStrainReached { name, .. }
             | CheckSpec::InterfaceRadialStress { name, .. }
             | CheckSpec::DebondOnsetTime { name, .. }
             | CheckSpec::DebondSpeedOverRayleigh { name, .. }

@@ -27,6 +27,8 @@ pub struct Watch<'a> {
     pub response: Response,
     /// The bonded interfaces (runs with bonds).
     pub debond: Option<Debond>,
+    /// The sheared cell (`[shear]`).
+    pub cell: Option<super::cell::Cell>,
     /// The bodies' shapes as filled.
     shapes: Vec<Geometry>,
     /// The scenario (its checks and shapes).
@@ -88,7 +90,16 @@ impl<'a> Watch<'a> {
         Watch {
             record,
             response,
-            debond: Debond::new(sim, &scenario.checks, &a.geometry),
+            // A sheared cell reports its own debonding (against strain).
+            debond: if scenario.shear.is_some() {
+                None
+            } else {
+                Debond::new(sim, &scenario.checks, &a.geometry)
+            },
+            cell: scenario
+                .shear
+                .as_ref()
+                .map(|spec| super::cell::Cell::new(sim, spec, &a.geometry)),
             shapes: a.geometry.clone(),
             snapshots: snapshots
                 .then(|| vec![("points_initial.png".into(), snapshot(&sim.state, 0.0, 0.0))]),
@@ -144,6 +155,15 @@ impl<'a> Watch<'a> {
         if let Some(d) = &self.debond {
             figures.extend(d.figures());
         }
+        if let Some(c) = &self.cell {
+            figures.extend(c.figures());
+        }
+        let x = &sim.exchange;
+        if sim.setup.multi_body() {
+            figures.insert("contact_imbalance".into(), x.imbalance.length().into());
+            figures.insert("contact_imbalance_steps".into(), x.imbalance_abs.into());
+            figures.insert("boundary_impulse".into(), x.boundary_impulse.into());
+        }
         if let Some(last) = rec.samples.last() {
             figures.insert("total_energy_final".into(), last.energy.into());
             if last.dissipated != 0.0 || last.thermal_work != 0.0 {
@@ -179,6 +199,12 @@ impl<'a> Watch<'a> {
         {
             let c = c
                 .or_else(|| self.response.check(k, spec, sim, rec))
+                .or_else(|| match (spec, &self.cell) {
+                    (CheckSpec::ShearStrainReached { name, min }, Some(c)) => {
+                        Some(c.strain_check(name, *min))
+                    }
+                    _ => None,
+                })
                 .or_else(|| {
                     let d = self.debond.as_ref()?;
                     d.check(spec, sim, &self.shapes, rec)
@@ -251,6 +277,9 @@ impl Observer<Mpm> for Watch<'_> {
             }
         }
         self.record.samples.push(s.sample.clone());
+        if let Some(c) = self.cell.as_mut() {
+            c.on_sample(sim, &s.sample);
+        }
         self.response
             .sample(&sim.state, &sim.solver.layout().bodies);
         if let Some(d) = self.debond.as_mut() {
@@ -276,6 +305,9 @@ impl Observer<Mpm> for Watch<'_> {
         }
         if let Some(d) = self.debond.as_mut() {
             d.on_end(sim);
+        }
+        if let Some(c) = self.cell.as_mut() {
+            c.on_end(sim);
         }
         report.figures.extend(self.figures(sim));
         report.checks.extend(self.checks(sim)?);
