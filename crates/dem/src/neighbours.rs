@@ -392,14 +392,33 @@ fn build_rows(
     let mut lens = Vec::with_capacity(range.len());
     let mut nbr = Vec::with_capacity(range.len() * 4);
     let mut shear = Vec::with_capacity(range.len() * 4);
+    // The particles are sorted by cell, so a cell with a lower index holds only lower
+    // indices (pairs its own rows list) and a higher one only higher: each row scans
+    // its own cell past itself and the stencil's higher cells, about half the 3 × 3
+    // block. Consecutive rows share a cell, so the stencil is found once per cell.
+    let mut cell = usize::MAX;
+    let mut ahead = ([0usize; 9], 0usize);
     for i in range {
         let before = nbr.len();
-        let (cells, k) = grid.around(grid.coords(p.pos[i]));
-        for &c in &cells[..k] {
-            for j in cell_start[c] as usize..cell_start[c + 1] as usize {
-                if j <= i {
-                    continue;
+        let c = grid.index(grid.coords(p.pos[i]));
+        if c != cell {
+            cell = c;
+            let (around, k) = grid.around(grid.coords(p.pos[i]));
+            ahead.1 = 0;
+            for &a in &around[..k] {
+                if a >= c {
+                    ahead.0[ahead.1] = a;
+                    ahead.1 += 1;
                 }
+            }
+        }
+        for &a in &ahead.0[..ahead.1] {
+            let from = if a == c {
+                i + 1
+            } else {
+                cell_start[a] as usize
+            };
+            for j in from..cell_start[a + 1] as usize {
                 let cut = p.radius[i] + p.radius[j] + setup.skin;
                 let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
                 if d.length_squared() < cut * cut {
