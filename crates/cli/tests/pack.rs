@@ -72,6 +72,16 @@ fn bad_specs_are_refused_without_output() {
             "rate = 2e-3\nanneal_sweeps = 20000000",
             "protocol.anneal_sweeps = 20000000",
         ),
+        (
+            "rate = 2e-3",
+            "rate = 2e-3\nsort_sweeps = 10\nstart = \"deposit\"",
+            "protocol.sort_sweeps = 10",
+        ),
+        (
+            "rate = 2e-3",
+            "rate = 2e-3\nstart_fraction = 0.85",
+            "protocol.start_fraction = 0.85",
+        ),
     ];
     for (from, to, expect) in cases {
         let dir = tempfile::tempdir().unwrap();
@@ -122,6 +132,16 @@ fn small_packing_writes_everything_and_is_thread_independent() {
     let anneal = SPEC.replace("rate = 2e-3", "rate = 2e-3\nanneal_sweeps = 40");
     let e = packed_on_one_and_two_threads(tempfile::tempdir().unwrap().path(), &anneal, "annealed");
     assert!(e != a, "the anneal makes no difference");
+    // And sizes sorted on the lattice before a dense start.
+    let sorted = SPEC.replace(
+        "rate = 2e-3",
+        "rate = 2e-3\nstart_fraction = 0.84\nsort_sweeps = 5",
+    );
+    let g = packed_on_one_and_two_threads(tempfile::tempdir().unwrap().path(), &sorted, "sorted");
+    assert!(
+        g.contains("sort_sweeps = 5"),
+        "the protocol line names the sort"
+    );
     assert!(a.starts_with("# content_key = "));
     assert!(a.lines().nth(1).unwrap().starts_with("# grains pack: tiny"));
     assert!(a.contains("# spec_key = "));

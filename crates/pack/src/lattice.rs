@@ -32,6 +32,8 @@ pub struct Template {
     pub fixed: usize,
     /// Bulk packing fraction of the bulk disks at the drawn sizes.
     pub fraction: f64,
+    /// Nearest-neighbour spacing of the sites.
+    pub spacing: f64,
 }
 
 /// The lattice start of `region` (d0 units) lined by `lining`, sizes drawn from
@@ -62,6 +64,7 @@ pub fn template(
         radius,
         fixed,
         fraction,
+        spacing: a,
     }
 }
 

@@ -29,6 +29,7 @@ pub mod protocol;
 pub mod relax;
 pub mod ring;
 pub mod sizes;
+pub mod sort;
 pub mod spec;
 pub mod validate;
 

@@ -8,6 +8,7 @@ use crate::lattice::{clearance_factor, template};
 use crate::lining::lining;
 use crate::mc::HardDisks;
 use crate::relax::Soft;
+use crate::sort::sort_sizes;
 use crate::spec::{FinishSpec, PackSpec, ProtocolSpec, StartSpec};
 use crate::validate::Validated;
 use glam::DVec2;
@@ -186,7 +187,7 @@ pub fn pack(spec: &PackSpec, v: &Validated, watch: &mut dyn Watch) -> Packing {
                 spec.seed,
                 &mut size_rng,
             );
-            let (pos, base) = (t.pos, t.radius);
+            let (pos, mut base) = (t.pos, t.radius);
             let sites = pos.len() - fixed;
             stats.deposited = sites;
             stats.fraction_after_deposit = t.fraction;
@@ -195,6 +196,28 @@ pub fn pack(spec: &PackSpec, v: &Validated, watch: &mut dyn Watch) -> Packing {
             let s = (p.start_fraction / stats.fraction_after_deposit.max(1e-9))
                 .sqrt()
                 .min(1.0);
+            if p.sort_sweeps > 0 {
+                let st = sort_sizes(
+                    &region,
+                    &pos[fixed..],
+                    &mut base[fixed..],
+                    t.spacing,
+                    s,
+                    p.sort_sweeps,
+                    spec.seed,
+                );
+                watch.line(format!(
+                    "sort: {} sweeps, {} of {} exchanges kept; at {:.4} the lattice bonds' \
+                     squared overlap falls to {:.0} % ({:.1} % of bonds overlap, {:.1} % before)",
+                    p.sort_sweeps,
+                    st.kept,
+                    st.tried,
+                    p.start_fraction,
+                    100.0 * st.energy_after / st.energy_before.max(f64::MIN_POSITIVE),
+                    100.0 * st.overlapping_after,
+                    100.0 * st.overlapping_before
+                ));
+            }
             let rad: Vec<f64> = base
                 .iter()
                 .enumerate()

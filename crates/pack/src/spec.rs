@@ -198,6 +198,12 @@ pub struct ProtocolSpec {
     /// for a size distribution that cannot hold the template to lose it.
     #[serde(default)]
     pub anneal_sweeps: u64,
+    /// Lattice start only: sweeps of size exchanges between lattice sites before any
+    /// disk moves, so that large disks sit beside small ones and the lattice survives
+    /// a dense start (see [`crate::sort`]); 0 (default) leaves the drawn order. Left out
+    /// of the spec's key when 0, so older specs keep their keys.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub sort_sweeps: u64,
     /// Most Monte Carlo sweeps of the growth.
     #[serde(default = "default_max_sweeps")]
     pub max_sweeps: u64,
@@ -213,6 +219,9 @@ pub struct ProtocolSpec {
     pub deposit_scale: f64,
 }
 
+fn is_zero(v: &u64) -> bool {
+    *v == 0
+}
 fn default_swaps() -> bool {
     true
 }
@@ -248,6 +257,7 @@ impl Default for ProtocolSpec {
             rate: default_rate(),
             start_fraction: default_start(),
             anneal_sweeps: 0,
+            sort_sweeps: 0,
             max_sweeps: default_max_sweeps(),
             swell_step: default_swell_step(),
             max_swell: default_max_swell(),

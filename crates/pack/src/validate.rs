@@ -92,11 +92,14 @@ pub fn validate(spec: &PackSpec) -> Result<Validated, InputError> {
             "must be in (0, 0.01] (relative radius growth per sweep)",
         ));
     }
-    if !(p.start_fraction.is_finite() && (0.3..=0.8).contains(&p.start_fraction)) {
+    // A sorted lattice holds its order up to a dense start; any other start disorders
+    // (or cannot be placed) above 0.8.
+    let top = if p.sort_sweeps > 0 { 0.88 } else { 0.8 };
+    if !(p.start_fraction.is_finite() && (0.3..=top).contains(&p.start_fraction)) {
         return Err(err(
             "protocol.start_fraction",
             p.start_fraction,
-            "must be in [0.3, 0.8]",
+            format!("must be in [0.3, {top}] (up to 0.88 with protocol.sort_sweeps > 0)"),
         ));
     }
     if p.finish == crate::spec::FinishSpec::Target && p.start_fraction >= p.target_fraction {
@@ -114,6 +117,20 @@ pub fn validate(spec: &PackSpec) -> Result<Validated, InputError> {
             "protocol.anneal_sweeps",
             p.anneal_sweeps,
             "must be at most 10000000",
+        ));
+    }
+    if p.sort_sweeps > 100_000 {
+        return Err(err(
+            "protocol.sort_sweeps",
+            p.sort_sweeps,
+            "must be at most 100000",
+        ));
+    }
+    if p.sort_sweeps > 0 && p.start != crate::spec::StartSpec::Lattice {
+        return Err(err(
+            "protocol.sort_sweeps",
+            p.sort_sweeps,
+            "sorts sizes on lattice sites: it needs protocol.start = \"lattice\" (or 0)",
         ));
     }
     if p.max_sweeps > 10_000_000 {
