@@ -338,8 +338,17 @@ pub fn pack(spec: &PackSpec, v: &Validated, watch: &mut dyn Watch) -> Packing {
     let mut s = 1.0;
     let mut r = soft.minimise(&region, FTOL_CYCLE, ITER_CYCLE);
     stats.iterations += r.iterations;
+    // With a target, a growth that stalled short of it swells up to it and no
+    // further: the soft disks would otherwise press on to jamming, past the target.
+    let bulk = (hd_scale.len() - fixed).max(1) as f64;
+    let s_limit =
+        target_scale.map(|_| (cap * bulk / hd_scale[fixed..].iter().sum::<f64>()).max(1.0));
     while !reached && stats.swell_cycles < 200 {
-        let s_next = s * (1.0 + p.swell_step);
+        let mut s_next = s * (1.0 + p.swell_step);
+        let last = s_limit.is_some_and(|l| s_next >= l);
+        if let (true, Some(l)) = (last, s_limit) {
+            s_next = l;
+        }
         set_scale(&mut soft, &current, s_next);
         r = soft.minimise(&region, FTOL_CYCLE, ITER_CYCLE);
         stats.iterations += r.iterations;
@@ -349,6 +358,9 @@ pub fn pack(spec: &PackSpec, v: &Validated, watch: &mut dyn Watch) -> Packing {
             break;
         }
         s = s_next;
+        if last {
+            break;
+        }
     }
     r = soft.minimise(&region, FTOL_FINAL, ITER_FINAL);
     stats.iterations += r.iterations;

@@ -163,7 +163,8 @@ pub enum FinishSpec {
     #[default]
     Jammed,
     /// Grow until the disks have the size at which the start's bulk disks fill
-    /// `target_fraction` (or until jammed, if that comes first): the sizes, and so the
+    /// `target_fraction` (or until jammed, if that comes first; a growth that jams
+    /// short of the target is swelled up to it, not past it): the sizes, and so the
     /// ring's mass, are known from the spec.
     Target,
 }
