@@ -400,10 +400,11 @@ fn build_rows(
     let mut ahead = ([0usize; 9], 0usize);
     for i in range {
         let before = nbr.len();
-        let c = grid.index(grid.coords(p.pos[i]));
+        let at = grid.coords(p.pos[i]);
+        let c = grid.index(at);
         if c != cell {
             cell = c;
-            let (around, k) = grid.around(grid.coords(p.pos[i]));
+            let (around, k) = grid.around(at);
             ahead.1 = 0;
             for &a in &around[..k] {
                 if a >= c {

@@ -344,11 +344,8 @@ pub fn pack(spec: &PackSpec, v: &Validated, watch: &mut dyn Watch) -> Packing {
     let s_limit =
         target_scale.map(|_| (cap * bulk / hd_scale[fixed..].iter().sum::<f64>()).max(1.0));
     while !reached && stats.swell_cycles < 200 {
-        let mut s_next = s * (1.0 + p.swell_step);
-        let last = s_limit.is_some_and(|l| s_next >= l);
-        if let (true, Some(l)) = (last, s_limit) {
-            s_next = l;
-        }
+        let last = s_limit.filter(|&l| s * (1.0 + p.swell_step) >= l);
+        let s_next = last.unwrap_or(s * (1.0 + p.swell_step));
         set_scale(&mut soft, &current, s_next);
         r = soft.minimise(&region, FTOL_CYCLE, ITER_CYCLE);
         stats.iterations += r.iterations;
@@ -358,7 +355,7 @@ pub fn pack(spec: &PackSpec, v: &Validated, watch: &mut dyn Watch) -> Packing {
             break;
         }
         s = s_next;
-        if last {
+        if last.is_some() {
             break;
         }
     }

@@ -158,21 +158,18 @@ mod tests {
         let mut radius: Vec<f64> = (0..pos.len())
             .map(|_| 0.5 * (1.0 + 0.113 * (draw.random::<f64>() * 2.0 - 1.0) * 3f64.sqrt()))
             .collect();
-        let mut before = radius.clone();
+        let drawn = radius.clone();
         let s = sort_sizes(&region, &pos, &mut radius, 1.0, 0.97, 10, 1);
         // Many small overlaps replace a few large ones: the energy falls by two thirds
         // while the share of overlapping bonds barely moves.
         assert!(s.energy_after < 0.5 * s.energy_before, "{s:?}");
         let mut after = radius.clone();
+        let mut before = drawn.clone();
         before.sort_by(f64::total_cmp);
         after.sort_by(f64::total_cmp);
         assert_eq!(before, after);
         // The same seed gives the same arrangement.
-        let mut again: Vec<f64> = radius.clone();
-        let mut draw = rng::stream(7, 0);
-        for r in again.iter_mut() {
-            *r = 0.5 * (1.0 + 0.113 * (draw.random::<f64>() * 2.0 - 1.0) * 3f64.sqrt());
-        }
+        let mut again = drawn;
         sort_sizes(&region, &pos, &mut again, 1.0, 0.97, 10, 1);
         assert_eq!(again, radius);
     }
