@@ -6,7 +6,7 @@
 //! the drawn ones times the final scale: exact when the growth ends at the target
 //! fraction; for growth to jamming, [`JAMMED_SCALE`] (measured).
 
-use crate::lattice::template;
+use crate::lattice::{lattice_fill, template};
 use crate::lining::lining;
 use crate::protocol::{end_scale, scale_region, spread};
 use crate::spec::{PackSpec, StartSpec};
@@ -47,6 +47,7 @@ pub fn preview(spec: &PackSpec, v: &Validated) -> Option<Preview> {
         &lining_disks,
         &v.sizes,
         d0,
+        lattice_fill(&spec.protocol),
         spec.seed,
         &mut size_rng,
     );

@@ -4,7 +4,7 @@
 //! to close the last gaps.
 
 use crate::deposit::deposit;
-use crate::lattice::{clearance_factor, template};
+use crate::lattice::{clearance_factor, lattice_fill, template};
 use crate::lining::lining;
 use crate::mc::HardDisks;
 use crate::relax::Soft;
@@ -184,6 +184,7 @@ pub fn pack(spec: &PackSpec, v: &Validated, watch: &mut dyn Watch) -> Packing {
                 &lining_disks,
                 &v.sizes,
                 d0,
+                lattice_fill(p),
                 spec.seed,
                 &mut size_rng,
             );
