@@ -276,6 +276,12 @@ pub fn assemble_with(s: &Scenario, base: &Path, unmade: Unmade) -> Result<Assemb
             CheckSpec::BandVelocity { expected, .. }
             | CheckSpec::FillToBurster { expected, .. } => {
                 positive(&format!("check[{k}].expected"), *expected)?;
+                if let CheckSpec::FillToBurster {
+                    paper: Some(paper), ..
+                } = chk
+                {
+                    positive(&format!("check[{k}].paper"), *paper)?;
+                }
                 if ring.is_none() {
                     return Err(err(
                         &format!("check[{k}].kind"),

@@ -239,10 +239,11 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
         if let CheckSpec::FillToBurster {
             expected,
             tolerance,
+            paper,
         } = *c
         {
             d.checks
-                .push(fill_to_burster_check(fb, expected, tolerance));
+                .push(fill_to_burster_check(fb, expected, tolerance, paper));
         }
     }
     let elements = a.mesh.tris.len() as u64;

@@ -160,7 +160,7 @@ pub fn evaluate(cx: &Context) -> (Vec<Check>, Map<String, Value>, Vec<ArrivalBin
             CheckSpec::RingEnergyTransfer { tolerance } => Check::at_most("ring_energy_transfer_error", transfer_err, tolerance).with_note(
                 "|1 − ring kinetic energy / work done by the charge on the ring| at the end (elastic, frictionless grains)",
             ),
-            CheckSpec::FillToBurster { expected, tolerance } => fill_to_burster_check(fb, expected, tolerance),
+            CheckSpec::FillToBurster { expected, tolerance, paper } => fill_to_burster_check(fb, expected, tolerance, paper),
             CheckSpec::ShearBandMode { mode, from, to, at_least, at_most } => {
                 shear_band_mode_check(cx.dispersal, mode, (from, to), (at_least, at_most))
             }
@@ -204,10 +204,18 @@ fn band_velocity_bracket_check(
 }
 
 /// The mass-ratio check (also run by `grains check`).
-pub fn fill_to_burster_check(measured: f64, expected: f64, tolerance: f64) -> Check {
-    Check::relative("fill_to_burster_ratio", measured, expected, tolerance).with_note(
-        "ring mass (Σ ρπr² of the disks) over charge mass (ρ0 × mesh area), vs the paper's Table 2",
-    )
+pub fn fill_to_burster_check(
+    measured: f64,
+    expected: f64,
+    tolerance: f64,
+    paper: Option<f64>,
+) -> Check {
+    let what = "ring mass (Σ ρπr² of the disks) over charge mass (ρ0 × mesh area)";
+    let note = match paper {
+        Some(p) => format!("{what}; the paper lists {p}"),
+        None => format!("{what}, vs the paper's Table 2"),
+    };
+    Check::relative("fill_to_burster_ratio", measured, expected, tolerance).with_note(&note)
 }
 
 /// The frames of the dispersal analysis at times in [from, to].

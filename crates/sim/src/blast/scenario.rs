@@ -313,6 +313,11 @@ pub enum CheckSpec {
         /// Relative tolerance.
         #[serde(default = "five_percent")]
         tolerance: f64,
+        /// A value the paper lists beside the expected one, reported, not checked
+        /// (xue-2019's Table 2 F/B, which its Table 1 packing fraction and grain
+        /// density do not give: VALIDATION.md).
+        #[serde(default)]
+        paper: Option<f64>,
     },
     /// The share of the times analysed in [`from`, `to`] at which the shear rate at the
     /// compact band's inner perimeter has its leading azimuthal mode equal to `mode`
