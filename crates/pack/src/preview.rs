@@ -52,12 +52,11 @@ pub fn preview(spec: &PackSpec, v: &Validated) -> Option<Preview> {
         &mut size_rng,
     );
     let r_lining = t.radius[..t.fixed].iter().copied().fold(0.0, f64::max);
-    // Capped as the growth caps it (`max_swell`).
     let s = end_scale(
         &spec.protocol,
         spread(&region, &t.radius[t.fixed..], r_lining),
     )
-    .map_or(JAMMED_SCALE, |s| s.min(1.0 + spec.protocol.max_swell));
+    .unwrap_or(JAMMED_SCALE);
     Some(Preview {
         pos: t.pos.iter().map(|p| *p * d0).collect(),
         radius: t

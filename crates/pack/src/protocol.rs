@@ -110,10 +110,14 @@ const PROGRESS_SWELL: f64 = 0.05;
 
 /// The radius scale, relative to the drawn sizes, at which the growth ends with
 /// `finish = "target"`: the bulk disks then fill `target_fraction` of the region inside
-/// the lining, given that at their drawn sizes they would fill `spread` of it ([`spread`]).
-/// `None` when the growth goes on to jamming.
+/// the lining, given that at their drawn sizes they would fill `spread` of it ([`spread`]),
+/// capped at `1 + max_swell`. `None` when the growth goes on to jamming.
 pub fn end_scale(p: &ProtocolSpec, spread: f64) -> Option<f64> {
-    (p.finish == FinishSpec::Target).then(|| (p.target_fraction / spread.max(1e-9)).sqrt())
+    (p.finish == FinishSpec::Target).then(|| {
+        (p.target_fraction / spread.max(1e-9))
+            .sqrt()
+            .min(1.0 + p.max_swell)
+    })
 }
 
 /// The fraction of the region inside the lining (the region shrunk by the lining
@@ -251,7 +255,7 @@ pub fn pack(spec: &PackSpec, v: &Validated, watch: &mut dyn Watch) -> Packing {
     let target_scale = end_scale(p, spread(&region, &base[fixed..], r_lining));
     let mut hd = HardDisks::new(pos, base, scale, fixed, spec.seed);
     hd.swaps = p.swaps;
-    let cap = target_scale.map_or(1.0 + p.max_swell, |s| s.min(1.0 + p.max_swell));
+    let cap = target_scale.unwrap_or(1.0 + p.max_swell);
     // The sweeps the growth will take, for the progress estimate: to the target, or
     // to about where a lattice start jams.
     let growth_sweeps = ((target_scale.unwrap_or(crate::preview::JAMMED_SCALE) / s_start)
