@@ -19,7 +19,7 @@ const EXIT_CODES: &str = "Exit codes:
   3    the run went unstable (NaN, runaway overlap, a particle through the charge's
        edge, CFL breach, a collapsed time step); the output written before that
        point is kept and its checks fail
-  130  interrupted by Ctrl-C or SIGTERM (DEM runs write a checkpoint first)";
+  130  interrupted by Ctrl-C or SIGTERM (DEM and FEM–DEM runs write a checkpoint first)";
 
 #[derive(Parser)]
 #[command(
@@ -50,7 +50,7 @@ enum Command {
         #[arg(long)]
         stop_at_step: Option<u64>,
     },
-    /// Continue a DEM run from the checkpoint in its output directory.
+    /// Continue a DEM or FEM–DEM run from the checkpoint in its output directory.
     #[command(after_help = EXIT_CODES)]
     Resume {
         /// The run's output directory (holding scenario.toml and checkpoint.bin).

@@ -18,6 +18,7 @@
 //!   beds built with LAMMPS can start a grains run;
 //! - [`table`]: tables of values against time (temperature, velocity histories),
 //!   validated and read linearly;
+//! - [`snapshot`]: the tagged binary arrays engine checkpoints are written in;
 //! - [`atomic`]: the write-then-rename primitive the writers above share, so
 //!   an interrupted run never leaves a half-written file behind.
 #![warn(missing_docs)]
@@ -32,6 +33,7 @@ pub mod lammps_data;
 pub mod plot;
 pub mod pvd;
 pub mod rng;
+pub mod snapshot;
 pub mod table;
 pub mod vtk;
 mod xml;

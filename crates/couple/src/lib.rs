@@ -8,6 +8,7 @@
 //! copying them.
 #![warn(missing_docs)]
 
+pub mod checkpoint;
 pub mod penalty;
 pub mod step;
 

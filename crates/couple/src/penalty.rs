@@ -30,11 +30,11 @@ pub struct Coupling {
     /// Verlet skin (m).
     pub skin: f64,
     /// Candidate (particle index, boundary edge index) pairs, by particle.
-    candidates: Vec<(u32, u32)>,
+    pub(crate) candidates: Vec<(u32, u32)>,
     /// Boundary node positions at the last coarse detection.
-    nodes_at_build: Vec<DVec2>,
+    pub(crate) nodes_at_build: Vec<DVec2>,
     /// The node of each boundary edge's triangle that is not on the edge.
-    apex: Vec<u32>,
+    pub(crate) apex: Vec<u32>,
     /// Coarse detections so far.
     pub builds: u64,
     /// Touching pairs at the last force evaluation.
@@ -49,7 +49,7 @@ pub struct Coupling {
     pub radial_force: f64,
     /// Bound on the squared highest frequency of the penalty springs at the last
     /// evaluation (1/s²); see [`Coupling::stable_dt`].
-    omega2_max: f64,
+    pub(crate) omega2_max: f64,
     /// Scratch: each node's Gershgorin row sum.
     node_row: Vec<f64>,
     /// Scratch: the length of edge the grains on each node cover (m).
@@ -58,7 +58,7 @@ pub struct Coupling {
     hits: Vec<(u32, u32, Touch, bool)>,
     /// Each boundary node's length of edge when the run started: half of each of its
     /// two edges (m).
-    node_length: Vec<f64>,
+    pub(crate) node_length: Vec<f64>,
 }
 
 impl Coupling {

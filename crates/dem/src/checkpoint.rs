@@ -2,8 +2,8 @@
 //! had never stopped: every particle field, the neighbour list in its current order with
 //! its tangential history and wall springs, and the last wall loads.
 //!
-//! Layout: a sequence of tagged little-endian arrays (`u64` length, then the raw
-//! elements), in a fixed order. Readers check every length against the particle and
+//! Layout: a sequence of tagged little-endian arrays ([`grains_core::snapshot`]), in a
+//! fixed order. Readers check every length against the particle and
 //! entry counts and refuse anything inconsistent; integrity of the bytes themselves is
 //! the container's job (the CLI adds a checksum over the whole file).
 
@@ -12,114 +12,11 @@ use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::step::State;
 use glam::DVec2;
+pub use grains_core::snapshot::SnapshotError;
+use grains_core::snapshot::{
+    get_f64, get_u32, get_u64, get_vec2, put_f64, put_u32, put_u64, put_vec2,
+};
 use std::io::{self, Read, Write};
-
-/// Why a snapshot could not be read.
-#[derive(Debug, thiserror::Error)]
-pub enum SnapshotError {
-    /// The bytes ended early or could not be read.
-    #[error("snapshot truncated or unreadable: {0}")]
-    Io(#[from] io::Error),
-    /// A length or value is inconsistent with the rest.
-    #[error("snapshot inconsistent: {0}")]
-    Invalid(String),
-}
-
-fn put_len(w: &mut impl Write, n: usize) -> io::Result<()> {
-    w.write_all(&(n as u64).to_le_bytes())
-}
-
-fn put_f64(w: &mut impl Write, v: &[f64]) -> io::Result<()> {
-    put_len(w, v.len())?;
-    let mut buf = Vec::with_capacity(8 * v.len());
-    for x in v {
-        buf.extend_from_slice(&x.to_le_bytes());
-    }
-    w.write_all(&buf)
-}
-
-fn put_vec2(w: &mut impl Write, v: &[DVec2]) -> io::Result<()> {
-    put_len(w, v.len())?;
-    let mut buf = Vec::with_capacity(16 * v.len());
-    for x in v {
-        buf.extend_from_slice(&x.x.to_le_bytes());
-        buf.extend_from_slice(&x.y.to_le_bytes());
-    }
-    w.write_all(&buf)
-}
-
-fn put_u32(w: &mut impl Write, v: &[u32]) -> io::Result<()> {
-    put_len(w, v.len())?;
-    let mut buf = Vec::with_capacity(4 * v.len());
-    for x in v {
-        buf.extend_from_slice(&x.to_le_bytes());
-    }
-    w.write_all(&buf)
-}
-
-fn put_u64(w: &mut impl Write, v: &[u64]) -> io::Result<()> {
-    put_len(w, v.len())?;
-    let mut buf = Vec::with_capacity(8 * v.len());
-    for x in v {
-        buf.extend_from_slice(&x.to_le_bytes());
-    }
-    w.write_all(&buf)
-}
-
-fn get_len(r: &mut impl Read, limit: usize) -> Result<usize, SnapshotError> {
-    let mut b = [0u8; 8];
-    r.read_exact(&mut b)?;
-    let n = u64::from_le_bytes(b);
-    if n > limit as u64 {
-        return Err(SnapshotError::Invalid(format!(
-            "array of {n} elements exceeds the limit {limit}"
-        )));
-    }
-    Ok(n as usize)
-}
-
-fn get_bytes(r: &mut impl Read, n: usize, size: usize) -> Result<Vec<u8>, SnapshotError> {
-    let mut buf = vec![0u8; n * size];
-    r.read_exact(&mut buf)?;
-    Ok(buf)
-}
-
-fn get_f64(r: &mut impl Read, limit: usize) -> Result<Vec<f64>, SnapshotError> {
-    let n = get_len(r, limit)?;
-    let b = get_bytes(r, n, 8)?;
-    Ok(b.chunks_exact(8)
-        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
-        .collect())
-}
-
-fn get_vec2(r: &mut impl Read, limit: usize) -> Result<Vec<DVec2>, SnapshotError> {
-    let n = get_len(r, limit)?;
-    let b = get_bytes(r, n, 16)?;
-    Ok(b.chunks_exact(16)
-        .map(|c| {
-            DVec2::new(
-                f64::from_le_bytes(c[..8].try_into().unwrap()),
-                f64::from_le_bytes(c[8..].try_into().unwrap()),
-            )
-        })
-        .collect())
-}
-
-fn get_u32(r: &mut impl Read, limit: usize) -> Result<Vec<u32>, SnapshotError> {
-    let n = get_len(r, limit)?;
-    let b = get_bytes(r, n, 4)?;
-    Ok(b.chunks_exact(4)
-        .map(|c| u32::from_le_bytes(c.try_into().unwrap()))
-        .collect())
-}
-
-fn get_u64(r: &mut impl Read, limit: usize) -> Result<Vec<u64>, SnapshotError> {
-    let n = get_len(r, limit)?;
-    let b = get_bytes(r, n, 8)?;
-    Ok(b.chunks_exact(8)
-        .map(|c| u64::from_le_bytes(c.try_into().unwrap()))
-        .collect())
-}
 
 /// Writes the state.
 pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {

@@ -17,6 +17,7 @@
 // Element and node kernels index several per-field arrays with one index.
 #![allow(clippy::needless_range_loop)]
 
+pub mod checkpoint;
 pub mod diagnostics;
 pub mod eos;
 pub mod explosive;

@@ -107,6 +107,11 @@ pub trait Observer<S: Simulation>: Send {
     fn on_end(&mut self, _sim: &S, _status: &Status, _report: &mut Report) -> anyhow::Result<()> {
         Ok(())
     }
+    /// Makes what this observer has written so far durable, just before a checkpoint
+    /// that will count on it is written (a resumed run reads it back).
+    fn persist(&mut self) -> anyhow::Result<()> {
+        Ok(())
+    }
     /// What this observer must carry across a checkpoint (name, state); `None` for none.
     fn save(&self) -> Option<(&'static str, toml::Value)> {
         None
@@ -449,18 +454,21 @@ fn frame<S: Simulation>(
 
 fn save_checkpoint<S: Simulation>(
     sim: &S,
-    observers: &[&mut dyn Observer<S>],
+    observers: &mut [&mut dyn Observer<S>],
     control: &Control,
     counters: &Counters,
 ) -> anyhow::Result<()> {
     let (Some(dir), Some(state)) = (&control.checkpoint_dir, sim.checkpoint()) else {
         return Ok(());
     };
+    for o in observers.iter_mut() {
+        o.persist()?;
+    }
     let mut saved = SavedProgress {
         counters: counters.clone(),
         observers: toml::Table::new(),
     };
-    for o in observers {
+    for o in observers.iter() {
         if let Some((name, v)) = o.save() {
             saved.observers.insert(name.to_string(), v);
         }

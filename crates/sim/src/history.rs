@@ -75,4 +75,9 @@ impl<S: Recorded> Observer<S> for HistoryRecorder {
         self.history.flush()?;
         Ok(())
     }
+
+    fn persist(&mut self) -> anyhow::Result<()> {
+        self.history.flush()?;
+        Ok(())
+    }
 }

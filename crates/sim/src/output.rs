@@ -19,7 +19,7 @@ pub struct OutputSpec {
     #[serde(default)]
     pub snapshots: Vec<f64>,
     /// Write `checkpoint.bin` every this many steps (also on Ctrl-C/SIGTERM and at
-    /// `--stop-at-step`); `grains resume DIR` continues from it (DEM).
+    /// `--stop-at-step`); `grains resume DIR` continues from it (DEM and FEM–DEM).
     #[serde(default)]
     pub checkpoint_every: Option<u64>,
     /// Also write each frame as a LAMMPS text dump (`frames/particles_NNNNN.dump`,
@@ -81,7 +81,7 @@ impl OutputSpec {
                 return Err(only(
                     "output.checkpoint_every",
                     &k,
-                    "checkpoints are written by DEM runs only",
+                    "checkpoints are written by DEM and FEM–DEM runs only",
                 ));
             }
             if k == 0 {

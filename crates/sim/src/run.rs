@@ -24,7 +24,7 @@ pub struct RunOptions<'a> {
     pub out: PathBuf,
     /// Worker threads in use (reported in the summary).
     pub threads: usize,
-    /// Stop with a checkpoint once this step is reached (DEM).
+    /// Stop with a checkpoint once this step is reached (DEM and FEM–DEM).
     pub stop_at_step: Option<u64>,
     /// Set by a signal handler to stop (with a checkpoint where the engine has one).
     pub interrupt: Option<&'a AtomicBool>,
@@ -90,7 +90,7 @@ pub fn run(src: &Source, opts: RunOptions) -> Result<Finished, RunError> {
     match scenario::parse(src).map_err(RunError::Input)? {
         Scenario::Dem(s) => dem::run::run(&s, src, opts, None),
         Scenario::Mpm(s) => mpm::run::run(&s, src, opts),
-        Scenario::FemDem(s) => blast::run::run(&s, src, opts),
+        Scenario::FemDem(s) => blast::run::run(&s, src, opts, None),
     }
 }
 
@@ -119,8 +119,12 @@ pub fn resume(dir: &Path, mut opts: RunOptions) -> Result<Finished, RunError> {
             let saved = dem::run::load_checkpoint(&s, &src, dir)?;
             dem::run::run(&s, &src, opts, Some(saved))
         }
+        Scenario::FemDem(s) => {
+            let saved = blast::run::load_checkpoint(&src, dir)?;
+            blast::run::run(&s, &src, opts, Some(saved))
+        }
         other => Err(RunError::Input(format!(
-            "{}: resume is supported for engine = \"dem\" runs, this one is engine = \"{}\"",
+            "{}: resume is supported for engine = \"dem\" and \"fem_dem\" runs, this one is engine = \"{}\"",
             dir.display(),
             other.engine()
         ))),

@@ -7,6 +7,7 @@
 
 pub mod assemble;
 pub mod check;
+pub mod checkpoint;
 pub mod frames;
 pub mod ledger;
 pub mod models;
@@ -30,7 +31,7 @@ pub const CAPABILITIES: Capabilities = Capabilities {
     engine: "fem_dem",
     frames: 20,
     history: 1000,
-    checkpoints: false,
+    checkpoints: true,
     lammps_dump: false,
     grid: false,
 };
@@ -267,6 +268,10 @@ impl Simulation for Blast {
             h.word(grains_dem::diagnostics::state_hash(&r.state));
         }
         h.finish()
+    }
+
+    fn checkpoint(&self) -> Option<Vec<u8>> {
+        Some(self.snapshot())
     }
 }
 

@@ -1,10 +1,12 @@
-//! A FEM–DEM run from its scenario to its summary.
+//! A FEM–DEM run from its scenario to its summary; a run continued from a checkpoint
+//! goes on exactly as if it had never stopped.
 
 use super::assemble::{assemble, assemble_with, on_demand, Unmade};
 use super::scenario::Scenario;
 use super::{ledger, models, plots, probes, Blast, BlastSample, CAPABILITIES};
+use crate::checkpoint::{self, Progress as Saved};
 use crate::dispersal::DispersalObserver;
-use crate::driver::{discount, Counters, Observer, Report, Status};
+use crate::driver::{discount, restore_observers, Counters, Observer, Report, Status};
 use crate::frames::FrameRecorder;
 use crate::frames::{Mapped, Snapshots};
 use crate::history::{HistoryRecorder, Recorded};
@@ -114,8 +116,27 @@ pub const LEDGER_COLUMNS: [&str; 5] = [
     "springs_released",
 ];
 
-/// Runs `s` (read from `src`) into `opts.out`.
-pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished, RunError> {
+/// A checkpoint read back: the run loop's progress and the run's state bytes.
+pub struct Resume {
+    progress: Saved,
+    state: Vec<u8>,
+}
+
+/// Reads `dir/checkpoint.bin` for the scenario copy in `dir` (its bytes are checked
+/// against the scenario when the run is rebuilt).
+pub fn load_checkpoint(src: &Source, dir: &Path) -> Result<Resume, RunError> {
+    let (progress, state) =
+        checkpoint::load(&dir.join(checkpoint::FILE), &src.text).map_err(RunError::Input)?;
+    Ok(Resume { progress, state })
+}
+
+/// Runs `s` (read from `src`) into `opts.out`, or continues it from `resume`.
+pub fn run(
+    s: &Scenario,
+    src: &Source,
+    mut opts: RunOptions,
+    resume: Option<Resume>,
+) -> Result<Finished, RunError> {
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
     let input = |e: String| RunError::Input(format!("{}: {e}", src.origin));
     if let Some(od) = on_demand(s, &src.base).map_err(input)? {
@@ -130,7 +151,8 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
     let charge_mass = a.charge_mass;
     let out = opts.out.clone();
     opts.progress.announce(&format!(
-        "{} (fem_dem) — charge {} ({} elements), {} particles, dt ≈ {:.3e} s, {} threads → {}",
+        "{}{} (fem_dem) — charge {} ({} elements), {} particles, dt ≈ {:.3e} s, {} threads → {}",
+        if resume.is_some() { "resuming " } else { "" },
         s.name,
         a.fem.explosive.name,
         a.mesh.tris.len(),
@@ -139,10 +161,25 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
         opts.threads,
         out.display()
     ));
-    fresh_out(&out, &src.text)?;
     let mut sim = Blast::new(s, a);
-    let mut history = HistoryRecorder::create(&out, &mut sim)?;
-    let mut frames = FrameRecorder::create(&out, &sim).map_err(anyhow::Error::from)?;
+    let (mut history, mut frames, counters) = match &resume {
+        None => {
+            fresh_out(&out, &src.text)?;
+            let history = HistoryRecorder::create(&out, &mut sim)?;
+            let frames = FrameRecorder::create(&out, &sim).map_err(anyhow::Error::from)?;
+            (history, frames, None)
+        }
+        Some(r) => {
+            sim.restore(&r.state).map_err(|e| {
+                RunError::Input(format!("{}: {e}", out.join(checkpoint::FILE).display()))
+            })?;
+            let c = r.progress.counters.clone();
+            let history = HistoryRecorder::reopen(&out, &sim, sim.charge.step)?;
+            let frames = FrameRecorder::resume(&out, &sim, sim.charge.time, c.frames)
+                .map_err(anyhow::Error::from)?;
+            (history, frames, Some(c))
+        }
+    };
     let mut snaps = Snapshots {
         dir: out.join("plots"),
     };
@@ -152,6 +189,8 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
     std::fs::create_dir_all(&snaps.dir)
         .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", snaps.dir.display()))?;
     let mut plan = s.output.plan_by_time(&CAPABILITIES, s.run.duration);
+    // On a resumed run the analysis covers the new segment; `grains analyze RUN_DIR`
+    // covers every frame.
     let mut dispersal = match (&s.analysis.dispersal, &sim.ring) {
         (Some(d), Some(_)) => {
             // A frame at each chosen time, so that the maps there can be made again
@@ -176,13 +215,17 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
         if let Some(d) = dispersal.as_mut() {
             observers.push(d);
         }
+        if let Some(r) = &resume {
+            restore_observers(&mut observers, &r.progress.observers)?;
+        }
+        let counters = counters.unwrap_or_else(|| Counters::fresh(&plan));
         drive(
             &mut sim,
             &mut observers,
             &plan,
             &mut opts,
             &src.text,
-            Counters::fresh(&plan),
+            counters,
         )?
     };
     let ring_mass: Option<f64> = sim.ring.as_ref().map(|r| {
@@ -262,7 +305,14 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
         threads: opts.threads,
         frames: frames.count(),
     };
-    let sum = summary(&s.name, "fem_dem", &sim, &outcome, costs, counts);
+    let mut sum = summary(&s.name, "fem_dem", &sim, &outcome, costs, counts);
+    if matches!(outcome.status, Status::Paused | Status::Interrupted) {
+        sum.message = Some(format!(
+            "stopped at step {} with a checkpoint; continue with `grains resume {}`",
+            outcome.clock.step,
+            out.display()
+        ));
+    }
     finish(sum, outcome.status, &out)
 }
 
