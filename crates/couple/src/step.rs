@@ -9,7 +9,7 @@
 
 use crate::penalty::Coupling;
 use glam::DVec2;
-use grains_dem::{step_with, Hooks, Particles, Setup, State};
+use grains_dem::{step_with, Hooks, ListChange, Particles, Setup, State};
 use grains_fem::integrate as fem_int;
 use grains_fem::stress::{stress_forces, Breakdown};
 use grains_fem::{Charge, FemSetup};
@@ -65,9 +65,11 @@ impl Hooks for Edge<'_> {
         *self.grid_box
     }
 
-    fn post_neighbour(&mut self, p: &Particles, rebuilt: bool) {
-        // The candidate list holds particle indices, so a re-sort invalidates it.
-        if rebuilt || self.coupling.stale(self.charge) {
+    fn post_neighbour(&mut self, p: &Particles, change: ListChange) {
+        // The candidate list holds particle indices, so a re-sort invalidates it; and it
+        // is kept by absolute positions, so it is made again at every step on which some
+        // particle is more than skin/2 from where it was at the DEM list's build.
+        if change != ListChange::Kept || self.coupling.stale(self.charge) {
             self.coupling.rebuild(self.charge, p);
         }
     }

@@ -1,6 +1,6 @@
 //! Exact binary snapshots of a [`State`], so a run can stop and continue bitwise as if it
 //! had never stopped: every particle field, the neighbour list in its current order with
-//! its tangential history and wall springs, and the last wall loads.
+//! its tangential history, wall springs and expanding frame, and the last wall loads.
 //!
 //! Layout: a sequence of tagged little-endian arrays ([`grains_core::snapshot`]), in a
 //! fixed order. Readers check every length against the particle and
@@ -11,6 +11,7 @@ use crate::integrate::WallLoad;
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::step::State;
+use crate::verlet::Comoving;
 use glam::DVec2;
 pub use grains_core::snapshot::SnapshotError;
 use grains_core::snapshot::{
@@ -46,6 +47,11 @@ pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
     put_u64(w, &c.wall_near)?;
     put_f64(w, &c.wall_shear)?;
     put_vec2(w, &c.pos_at_build)?;
+    let frame: Vec<f64> = c
+        .frame
+        .map(|f| vec![f.centre.x, f.centre.y, f.shift.x, f.shift.y, f.radial])
+        .unwrap_or_default();
+    put_f64(w, &frame)?;
     let loads: Vec<f64> = state
         .wall_loads
         .iter()
@@ -101,6 +107,25 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
     c.wall_near = get_u64(r, n)?;
     c.wall_shear = get_f64(r, n * n_walls)?;
     c.pos_at_build = get_vec2(r, n)?;
+    let frame = get_f64(r, 5)?;
+    c.frame = match frame.len() {
+        0 => None,
+        5 => Some(Comoving {
+            centre: DVec2::new(frame[0], frame[1]),
+            shift: DVec2::new(frame[2], frame[3]),
+            radial: frame[4],
+        }),
+        k => {
+            return Err(SnapshotError::Invalid(format!(
+                "expanding frame: {k} values, expected 0 or 5"
+            )))
+        }
+    };
+    // Made from the build positions as the rebuild made them.
+    c.normal_at_build = match &c.frame {
+        Some(f) => c.pos_at_build.iter().map(|&x| f.normal(x)).collect(),
+        None => Vec::new(),
+    };
     c.n_walls = n_walls;
     c.builds = head[2];
     let loads = get_f64(r, 4 * 64)?;

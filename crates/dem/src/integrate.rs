@@ -6,6 +6,7 @@ use crate::forces::contact_force;
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
+use crate::verlet::{Comoving, Sums};
 use crate::CHUNK;
 use glam::DVec2;
 use rayon::prelude::*;
@@ -21,18 +22,70 @@ pub struct WallLoad {
     pub contacts: u32,
 }
 
+/// How far the particles went in a [`kick_drift`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Drift {
+    /// Some particle is now more than skin/2 from `pos_at_build` (or the list does not
+    /// fit the particles): the classic rule would rebuild.
+    pub moved: bool,
+    /// With a frame: no two particles have strayed, together, more than the skin from
+    /// where the frame carries their build positions (the list is still valid;
+    /// [`crate::verlet`]).
+    pub in_frame: bool,
+    /// With a frame: the sums the next frame is estimated from.
+    pub sums: Sums,
+}
+
 /// First half of velocity Verlet over a step `dt`: half kick with the last forces and
-/// gravity, then drift, and wrap positions on periodic axes. Returns whether any particle
-/// has now moved more than skin/2 from `pos_at_build` (the neighbour list needs
-/// rebuilding) — measured in the same sweep, so the check costs no extra pass over memory.
-pub fn kick_drift(setup: &Setup, p: &mut Particles, pos_at_build: &[DVec2], dt: f64) -> bool {
-    let stale = pos_at_build.len() != p.len();
-    let moved = crate::with_image!(
+/// gravity, then drift, and wrap positions on periodic axes. Measures, in the same sweep
+/// (no extra pass over memory), whether any particle has now moved more than skin/2 from
+/// `pos_at_build`, and, given an expanding `frame` with each particle's unit vector from
+/// its centre at the build, whether each is within skin/2 of where the frame carries it.
+pub fn kick_drift(
+    setup: &Setup,
+    p: &mut Particles,
+    pos_at_build: &[DVec2],
+    frame: Option<(&Comoving, &[DVec2])>,
+    dt: f64,
+) -> Drift {
+    let stale =
+        pos_at_build.len() != p.len() || frame.is_some_and(|(_, normals)| normals.len() != p.len());
+    let (frame, normals) = match frame {
+        Some((f, normals)) if !stale => (Some(f), normals),
+        _ => (None, &[][..]),
+    };
+    let d = crate::with_image!(
         setup.domain,
         kick_drift_chunks,
-        (setup, p, pos_at_build, stale, dt)
+        (setup, p, pos_at_build, stale, frame, normals, dt)
     );
-    moved || stale
+    // Two particles come closer by at most the sum of their residuals, so the two
+    // largest residuals bound every pair: one fast grain alone does not force a rebuild.
+    let [a, b] = d.residuals;
+    Drift {
+        moved: d.moved || stale,
+        in_frame: !stale && frame.is_some() && a.sqrt() + b.sqrt() <= setup.skin,
+        sums: d.sums,
+    }
+}
+
+/// What one chunk of a [`kick_drift`] measured.
+#[derive(Clone, Copy, Debug, Default)]
+struct ChunkDrift {
+    moved: bool,
+    /// The two largest squared residuals in the frame, largest first.
+    residuals: [f64; 2],
+    sums: Sums,
+}
+
+/// The two largest of two pairs, largest first.
+#[inline]
+fn top_two(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    if a[0] >= b[0] {
+        [a[0], a[1].max(b[0])]
+    } else {
+        [b[0], b[1].max(a[0])]
+    }
 }
 
 fn kick_drift_chunks<const PX: bool, const PY: bool>(
@@ -40,8 +93,10 @@ fn kick_drift_chunks<const PX: bool, const PY: bool>(
     p: &mut Particles,
     built: &[DVec2],
     stale: bool,
+    frame: Option<&Comoving>,
+    normals: &[DVec2],
     dt: f64,
-) -> bool {
+) -> ChunkDrift {
     let image = Image::<PX, PY>::new(&setup.domain);
     let (h, g) = (0.5 * dt, setup.gravity);
     let limit2 = (0.5 * setup.skin).powi(2);
@@ -64,21 +119,61 @@ fn kick_drift_chunks<const PX: bool, const PY: bool>(
                 &im[..n],
                 &ii[..n],
             );
-            let mut moved = false;
             for k in 0..n {
                 v[k] += h * (im[k] * f[k] + g);
                 w[k] += h * ii[k] * t[k];
                 x[k] = image.wrap(x[k] + dt * v[k]);
             }
-            if !stale {
-                let b = &built[c * CHUNK..c * CHUNK + n];
-                for k in 0..n {
-                    moved |= image.apply(x[k] - b[k]).length_squared() > limit2;
+            let mut d = ChunkDrift::default();
+            if stale {
+                return d;
+            }
+            let b = &built[c * CHUNK..c * CHUNK + n];
+            match frame {
+                None => {
+                    for k in 0..n {
+                        d.moved |= image.apply(x[k] - b[k]).length_squared() > limit2;
+                    }
+                }
+                Some(fr) => {
+                    // Frames are only used without periodic axes: no image to apply.
+                    let nb = &normals[c * CHUNK..c * CHUNK + n];
+                    let (mut d2, mut top) = (0.0f64, [0.0f64; 2]);
+                    let mut radial = [f64::INFINITY, f64::NEG_INFINITY];
+                    let (mut sum_d, mut sum_n) = (DVec2::ZERO, DVec2::ZERO);
+                    for k in 0..n {
+                        let delta = x[k] - b[k];
+                        let e = delta - fr.shift - fr.radial * nb[k];
+                        d2 = d2.max(delta.length_squared());
+                        let e2 = e.length_squared();
+                        if e2 > top[1] {
+                            top = if e2 > top[0] {
+                                [e2, top[0]]
+                            } else {
+                                [top[0], e2]
+                            };
+                        }
+                        let along = delta.dot(nb[k]);
+                        radial = [radial[0].min(along), radial[1].max(along)];
+                        sum_d += delta;
+                        sum_n += nb[k];
+                    }
+                    d.moved = d2 > limit2;
+                    d.residuals = top;
+                    d.sums = Sums {
+                        radial,
+                        displacement: sum_d,
+                        normal: sum_n,
+                    };
                 }
             }
-            moved
+            d
         })
-        .reduce(|| false, |a, b| a | b)
+        .reduce(ChunkDrift::default, |a, b| ChunkDrift {
+            moved: a.moved | b.moved,
+            residuals: top_two(a.residuals, b.residuals),
+            sums: a.sums.join(b.sums),
+        })
 }
 
 /// Adds to each particle's own-entry sums (left in `force`/`torque` by the pair pass) the

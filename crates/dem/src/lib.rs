@@ -29,6 +29,7 @@ pub mod setup;
 pub mod step;
 pub mod stress;
 pub mod timestep;
+pub mod verlet;
 pub mod walls;
 
 pub use contact::{ContactModel, PairParams, PairTable};
@@ -38,7 +39,7 @@ pub use material::Material;
 pub use neighbours::ContactList;
 pub use particles::Particles;
 pub use setup::Setup;
-pub use step::{step, step_with, Hooks, NoHooks, State};
+pub use step::{step, step_with, Hooks, ListChange, NoHooks, State};
 pub use walls::{Wall, WallShape};
 
 /// Work is split into fixed-size chunks of particles so that every reduction and every

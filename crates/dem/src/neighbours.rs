@@ -4,10 +4,13 @@
 //! At each rebuild the particles are re-sorted by cell (so a particle's neighbours sit
 //! close to it in memory), the list is rebuilt with cutoff r_i + r_j + skin, and the
 //! tangential springs of touching pairs are carried over by the particles' stable ids.
-//! Between rebuilds the list stays valid while no particle has moved more than skin/2.
+//! Between rebuilds the list stays valid while no particle has moved more than skin/2
+//! (in a frame that expands with the particles, where the set-up names one:
+//! [`crate::verlet`]).
 
 use crate::particles::Particles;
 use crate::setup::Setup;
+use crate::verlet::{frame_centre, Comoving};
 use crate::CHUNK;
 use glam::DVec2;
 use rayon::prelude::*;
@@ -42,6 +45,11 @@ pub struct ContactList {
     pub n_walls: usize,
     /// Positions at the last rebuild, for the skin criterion.
     pub pos_at_build: Vec<DVec2>,
+    /// The expanding frame the list is judged in since the last rebuild, where the
+    /// set-up has one ([`crate::verlet`]).
+    pub frame: Option<Comoving>,
+    /// With a frame: each particle's unit vector from its centre at the last rebuild.
+    pub normal_at_build: Vec<DVec2>,
     /// Number of rebuilds so far.
     pub builds: u64,
 }
@@ -226,6 +234,11 @@ impl ContactList {
         self.build_reverse(n);
         self.find_walls(setup, particles);
         self.pos_at_build.clone_from(&particles.pos);
+        self.frame = frame_centre(setup).map(Comoving::at_build);
+        self.normal_at_build = match &self.frame {
+            Some(f) => particles.pos.par_iter().map(|&x| f.normal(x)).collect(),
+            None => Vec::new(),
+        };
         self.builds += 1;
     }
 

@@ -24,8 +24,12 @@ pub struct Setup {
     /// Gravitational acceleration (m/s²).
     pub gravity: DVec2,
     /// Verlet skin (m): pairs closer than r_i + r_j + skin are listed, and the list is
-    /// rebuilt once any particle has moved more than skin/2.
+    /// rebuilt once any particle has moved more than skin/2 (in the frame below, if any).
     pub skin: f64,
+    /// The point the particles spread from, when they do (an explosive ring): the list
+    /// is then judged in a frame that expands from it ([`crate::verlet`]); `None`: the
+    /// classic rule.
+    pub expanding_from: Option<DVec2>,
 }
 
 /// Walls are tracked per particle in a 64-bit mask of nearby walls.
@@ -143,6 +147,7 @@ impl Setup {
             walls,
             gravity,
             skin,
+            expanding_from: None,
         })
     }
 

@@ -1,5 +1,6 @@
-//! One DEM time step: `kick_drift → neighbours → pair_contacts → [post_force] →
-//! walls_gather_kick`.
+//! One DEM time step: `kick_drift → neighbours (kept, or rebuilt once a particle may have
+//! come within reach of one not listed: [`crate::verlet`]) → pair_contacts →
+//! [post_force] → walls_gather_kick`.
 //!
 //! Outside forces (a coupled solid, a field) enter through [`Hooks`], as LAMMPS fixes do
 //! through `post_force`: the step itself is never copied to add them.
@@ -54,12 +55,26 @@ pub trait Hooks {
     }
 
     /// After the neighbour stage, with the particles in their (possibly new) order;
-    /// `rebuilt` says whether the list was rebuilt and the particles re-sorted.
-    fn post_neighbour(&mut self, _particles: &Particles, _rebuilt: bool) {}
+    /// `change` says whether the list was rebuilt (and the particles re-sorted), or kept
+    /// although some particle has moved more than skin/2 since the rebuild.
+    fn post_neighbour(&mut self, _particles: &Particles, _change: ListChange) {}
 
     /// After the pair forces and before walls and the closing kick: add outside forces
     /// to `particles.force` (and torques to `particles.torque`).
     fn post_force(&mut self, _particles: &mut Particles) {}
+}
+
+/// What the neighbour stage of a step did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ListChange {
+    /// Every particle is within skin/2 of where it was at the last rebuild.
+    Kept,
+    /// The list is still valid in its expanding frame ([`crate::verlet`]), but some
+    /// particle has moved more than skin/2: lists kept by absolute positions (a coupled
+    /// solid's contacts) must be made again.
+    Moved,
+    /// The list was rebuilt and the particles re-sorted.
+    Rebuilt,
 }
 
 /// No outside forces.
@@ -74,12 +89,31 @@ pub fn step(setup: &Setup, s: &mut State, dt: f64) {
 
 /// Advances the state by one time step `dt`, with outside forces from `hooks`.
 pub fn step_with<H: Hooks>(setup: &Setup, s: &mut State, dt: f64, hooks: &mut H) {
-    let rebuilt = kick_drift(setup, &mut s.particles, &s.contacts.pos_at_build, dt);
-    if rebuilt {
+    let list = &mut s.contacts;
+    let drift = kick_drift(
+        setup,
+        &mut s.particles,
+        &list.pos_at_build,
+        list.frame.as_ref().map(|f| (f, &list.normal_at_build[..])),
+        dt,
+    );
+    let change = if !drift.moved {
+        ListChange::Kept
+    } else if drift.in_frame {
+        ListChange::Moved
+    } else {
         let bounds = hooks.grid_box(setup, &s.particles);
-        s.contacts.rebuild_within(setup, bounds, &mut s.particles);
+        list.rebuild_within(setup, bounds, &mut s.particles);
+        ListChange::Rebuilt
+    };
+    if change != ListChange::Rebuilt {
+        // Any frame will do for the next step's test; this one follows the particles.
+        let n = s.particles.len();
+        if let Some(f) = list.frame.as_mut() {
+            *f = f.estimate(&drift.sums, n);
+        }
     }
-    hooks.post_neighbour(&s.particles, rebuilt);
+    hooks.post_neighbour(&s.particles, change);
     pair_contacts(
         setup,
         &mut s.particles,

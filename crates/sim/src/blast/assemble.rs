@@ -495,6 +495,9 @@ fn ring_part(
     if s.run.skin.is_none() {
         setup.skin = 0.5 * mean_d;
     }
+    // The ring spreads from the charge's centre: its neighbour list is judged in a frame
+    // that expands from there, not rebuilt every ten steps for moving as a whole.
+    setup.expanding_from = Some(centre);
     let mass: f64 = (0..n).map(|i| p.mass(i)).sum();
 
     let mat = p.material[0] as usize;
