@@ -39,6 +39,7 @@ pub fn write(ring: &Ring, w: &mut impl Write) -> io::Result<()> {
             c.energy,
             c.radial_force,
             c.omega2_max,
+            c.offset,
         ],
     )?;
     let pairs: Vec<u32> = c.candidates.iter().flat_map(|&(i, e)| [i, e]).collect();
@@ -86,7 +87,7 @@ pub fn read_into(
         )));
     }
     let head = get_u64_exact(r, 5, "coupling header")?;
-    let scalars = get_f64_exact(r, 6, "coupling scalars")?;
+    let scalars = get_f64_exact(r, 7, "coupling scalars")?;
     let c = &ring.coupling;
     if scalars[0].to_bits() != c.stiffness.to_bits() || scalars[1].to_bits() != c.skin.to_bits() {
         return Err(SnapshotError::Invalid(format!(
@@ -135,6 +136,7 @@ pub fn read_into(
     c.energy = scalars[3];
     c.radial_force = scalars[4];
     c.omega2_max = scalars[5];
+    c.offset = scalars[6];
     c.candidates = pairs.chunks_exact(2).map(|p| (p[0], p[1])).collect();
     c.nodes_at_build = nodes_at_build;
     c.apex = apex;

@@ -2,9 +2,12 @@
 //!
 //! 1. Coarse detection: the boundary edges are binned into a uniform cell grid; each
 //!    particle looks in its cell for edges within r + skin. The candidate list stays
-//!    valid until a particle (the DEM's own Verlet criterion) or a boundary node has
-//!    moved by half the skin, and is rebuilt right after the DEM list (which re-sorts
-//!    the particles).
+//!    valid while a particle's and a boundary node's displacements since then add up to
+//!    at most the skin ([`Coupling::stale`]), and is rebuilt right after the DEM list
+//!    (which re-sorts the particles). The skin is wider than the DEM's: the candidates
+//!    are a few layers of grains, and a wider skin spares a detection that scans every
+//!    grain; the forces do not depend on it (fine detection picks the same contacts in
+//!    the same order).
 //! 2. Fine detection (Eq. C1): the particle's centre projects inside the edge and lies
 //!    within its radius of the edge line, on the outer side or less than a radius inside.
 //! 3. Force (Eq. C2 in total form): F = K_pe·(r − d)·n along the edge's outward normal,
@@ -27,8 +30,11 @@ const CHUNK: usize = 4096;
 pub struct Coupling {
     /// Penalty stiffness K_pe.
     pub stiffness: f64,
-    /// Verlet skin (m).
+    /// Verlet skin (m): edges within r + skin of a particle are its candidates.
     pub skin: f64,
+    /// A bound on how far any particle was from the DEM list's build positions when the
+    /// candidates were made (m): 0 when made right after a DEM rebuild.
+    pub(crate) offset: f64,
     /// Candidate (particle index, boundary edge index) pairs, by particle.
     pub(crate) candidates: Vec<(u32, u32)>,
     /// Boundary node positions at the last coarse detection.
@@ -71,14 +77,30 @@ impl Coupling {
         }
     }
 
-    /// Whether a boundary node moved more than skin/2 since the last coarse detection.
-    pub fn stale(&self, c: &Charge) -> bool {
-        let limit2 = (0.5 * self.skin).powi(2);
-        self.nodes_at_build.len() != c.boundary.len()
-            || c.boundary
-                .iter()
-                .zip(&self.nodes_at_build)
-                .any(|(e, x0)| (c.nodes.pos[e[0] as usize] - *x0).length_squared() > limit2)
+    /// Whether the candidates may miss a contact. A pair left out was farther than
+    /// r + skin at the coarse detection; since then the particle has moved at most
+    /// `displacement` (its largest distance from the DEM list's build positions) plus
+    /// `offset`, and the edge at most as far as its farther node: the list holds while
+    /// the two add up to at most the skin.
+    pub fn stale(&self, c: &Charge, displacement: f64) -> bool {
+        if self.nodes_at_build.len() != c.boundary.len() {
+            return true;
+        }
+        let nodes = c
+            .boundary
+            .iter()
+            .zip(&self.nodes_at_build)
+            .map(|(e, x0)| (c.nodes.pos[e[0] as usize] - *x0).length_squared())
+            .fold(0.0, f64::max)
+            .sqrt();
+        displacement + self.offset + nodes > self.skin
+    }
+
+    /// [`Coupling::rebuild`] made when the particles are up to `displacement` from the
+    /// DEM list's build positions.
+    pub fn rebuild_at(&mut self, c: &Charge, p: &Particles, displacement: f64) {
+        self.rebuild(c, p);
+        self.offset = displacement;
     }
 
     /// Coarse detection: lists the (particle, edge) pairs within r + skin.

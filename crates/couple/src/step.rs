@@ -65,12 +65,10 @@ impl Hooks for Edge<'_> {
         *self.grid_box
     }
 
-    fn post_neighbour(&mut self, p: &Particles, change: ListChange) {
-        // The candidate list holds particle indices, so a re-sort invalidates it; and it
-        // is kept by absolute positions, so it is made again at every step on which some
-        // particle is more than skin/2 from where it was at the DEM list's build.
-        if change != ListChange::Kept || self.coupling.stale(self.charge) {
-            self.coupling.rebuild(self.charge, p);
+    fn post_neighbour(&mut self, p: &Particles, change: ListChange, displacement: f64) {
+        // The candidate list holds particle indices, so a re-sort invalidates it.
+        if change == ListChange::Rebuilt || self.coupling.stale(self.charge, displacement) {
+            self.coupling.rebuild_at(self.charge, p, displacement);
         }
     }
 

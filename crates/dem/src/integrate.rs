@@ -28,6 +28,9 @@ pub struct Drift {
     /// Some particle is now more than skin/2 from `pos_at_build` (or the list does not
     /// fit the particles): the classic rule would rebuild.
     pub moved: bool,
+    /// The largest distance of a particle from `pos_at_build` (m; infinite when the
+    /// list does not fit the particles).
+    pub displacement: f64,
     /// With a frame: no two particles have strayed, together, more than the skin from
     /// where the frame carries their build positions (the list is still valid;
     /// [`crate::verlet`]).
@@ -62,8 +65,10 @@ pub fn kick_drift(
     // Two particles come closer by at most the sum of their residuals, so the two
     // largest residuals bound every pair: one fast grain alone does not force a rebuild.
     let [a, b] = d.residuals;
+    let limit2 = (0.5 * setup.skin).powi(2);
     Drift {
-        moved: d.moved || stale,
+        moved: d.d2 > limit2 || stale,
+        displacement: if stale { f64::INFINITY } else { d.d2.sqrt() },
         in_frame: !stale && frame.is_some() && a.sqrt() + b.sqrt() <= setup.skin,
         sums: d.sums,
     }
@@ -72,7 +77,8 @@ pub fn kick_drift(
 /// What one chunk of a [`kick_drift`] measured.
 #[derive(Clone, Copy, Debug, Default)]
 struct ChunkDrift {
-    moved: bool,
+    /// The largest squared distance from the build position.
+    d2: f64,
     /// The two largest squared residuals in the frame, largest first.
     residuals: [f64; 2],
     sums: Sums,
@@ -99,7 +105,6 @@ fn kick_drift_chunks<const PX: bool, const PY: bool>(
 ) -> ChunkDrift {
     let image = Image::<PX, PY>::new(&setup.domain);
     let (h, g) = (0.5 * dt, setup.gravity);
-    let limit2 = (0.5 * setup.skin).powi(2);
     p.pos
         .par_chunks_mut(CHUNK)
         .zip(p.vel.par_chunks_mut(CHUNK))
@@ -132,7 +137,7 @@ fn kick_drift_chunks<const PX: bool, const PY: bool>(
             match frame {
                 None => {
                     for k in 0..n {
-                        d.moved |= image.apply(x[k] - b[k]).length_squared() > limit2;
+                        d.d2 = d.d2.max(image.apply(x[k] - b[k]).length_squared());
                     }
                 }
                 Some(fr) => {
@@ -158,7 +163,7 @@ fn kick_drift_chunks<const PX: bool, const PY: bool>(
                         sum_d += delta;
                         sum_n += nb[k];
                     }
-                    d.moved = d2 > limit2;
+                    d.d2 = d2;
                     d.residuals = top;
                     d.sums = Sums {
                         radial,
@@ -170,7 +175,7 @@ fn kick_drift_chunks<const PX: bool, const PY: bool>(
             d
         })
         .reduce(ChunkDrift::default, |a, b| ChunkDrift {
-            moved: a.moved | b.moved,
+            d2: a.d2.max(b.d2),
             residuals: top_two(a.residuals, b.residuals),
             sums: a.sums.join(b.sums),
         })

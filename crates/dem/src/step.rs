@@ -56,8 +56,10 @@ pub trait Hooks {
 
     /// After the neighbour stage, with the particles in their (possibly new) order;
     /// `change` says whether the list was rebuilt (and the particles re-sorted), or kept
-    /// although some particle has moved more than skin/2 since the rebuild.
-    fn post_neighbour(&mut self, _particles: &Particles, _change: ListChange) {}
+    /// although some particle has moved more than skin/2 since the rebuild;
+    /// `displacement` is the largest distance of a particle from where it was at the
+    /// last rebuild (0 right after one).
+    fn post_neighbour(&mut self, _particles: &Particles, _change: ListChange, _displacement: f64) {}
 
     /// After the pair forces and before walls and the closing kick: add outside forces
     /// to `particles.force` (and torques to `particles.torque`).
@@ -113,7 +115,11 @@ pub fn step_with<H: Hooks>(setup: &Setup, s: &mut State, dt: f64, hooks: &mut H)
             *f = f.estimate(&drift.sums, n);
         }
     }
-    hooks.post_neighbour(&s.particles, change);
+    let displacement = match change {
+        ListChange::Rebuilt => 0.0,
+        _ => drift.displacement,
+    };
+    hooks.post_neighbour(&s.particles, change, displacement);
     pair_contacts(
         setup,
         &mut s.particles,

@@ -162,6 +162,7 @@ fn label(key: &str) -> String {
         "fill_to_burster_ratio" => "F/B".into(),
         "dt" | "dt_initial" => "time step".into(),
         "steps_estimate" => "steps (typical)".into(),
+        "checkpoint_bytes" => "checkpoints".into(),
         k => k.replace('_', " "),
     }
 }

@@ -18,6 +18,11 @@ const BYTES_PER_PARTICLE: u64 = 360;
 const BYTES_PER_ELEMENT: u64 = 400;
 /// Elements that cost as much as one particle in a step.
 const ELEMENTS_PER_PARTICLE: u64 = 4;
+/// Checkpoint bytes per particle (its fields, about four neighbour entries with their
+/// springs and forces, its build position) and per element (the charge's fields with a
+/// share of its nodes').
+const CHECKPOINT_BYTES_PER_PARTICLE: u64 = 290;
+const CHECKPOINT_BYTES_PER_ELEMENT: u64 = 250;
 
 /// Particles and elements the scenario asks for, counted without building them.
 pub fn size(s: &Scenario, src: &Source) -> (u64, u64) {
@@ -235,6 +240,19 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
             ),
         ),
     ]);
+    if let Some(k) = s.output.checkpoint_every {
+        let size = n * CHECKPOINT_BYTES_PER_PARTICLE
+            + a.mesh.tris.len() as u64 * CHECKPOINT_BYTES_PER_ELEMENT;
+        d.lines.push(Line::new(
+            "checkpoint_bytes",
+            size,
+            format!(
+                "every {k} steps (about {} over the run), ≈ {} each, kept as checkpoint.bin beside the outputs; `grains resume` goes on from it",
+                steps / k.max(1),
+                estimate::bytes(size)
+            ),
+        ));
+    }
     for c in &s.checks {
         if let CheckSpec::FillToBurster {
             expected,

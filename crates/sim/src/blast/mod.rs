@@ -36,6 +36,11 @@ pub const CAPABILITIES: Capabilities = Capabilities {
     grid: false,
 };
 
+/// The skin of the charge–particle candidates, in DEM skins: wide enough that they
+/// last through most of the DEM list's life (a few more layers of grains to test each
+/// step), where the DEM's own skin had them made again at every step late in a run.
+pub const COUPLING_SKIN: f64 = 3.0;
+
 /// Penetration of a particle into the charge, in radii, beyond which the contact has
 /// failed (the particle is about to pass through the edge).
 pub const RUNAWAY_PENETRATION: f64 = 0.9;
@@ -94,7 +99,7 @@ impl Blast {
         let (ring, dt_particles, mean_d) = match a.ring {
             Some(rp) => {
                 let dt = rp.dt(coupling_safety);
-                let coupling = Coupling::new(rp.stiffness, rp.setup.skin);
+                let coupling = Coupling::new(rp.stiffness, COUPLING_SKIN * rp.setup.skin);
                 let mut ring = Ring::new(rp.setup, rp.particles, coupling, &mut charge);
                 if s.analysis.energy_ledger {
                     let start = grains_dem::EnergyLedger::starting(&ring.setup, &ring.state);
