@@ -247,3 +247,58 @@ fn coupled_run_paused_and_resumed_matches_a_straight_run() {
     let history = |d: &Path| std::fs::read_to_string(d.join("history.csv")).unwrap();
     assert_eq!(history(&a), history(&b), "history differs after resume");
 }
+
+/// A coupled run whose ring comes from a file named relative to its scenario resumes
+/// from the scenario copy in its output directory: the checkpoint records where the
+/// original's relative paths started.
+#[test]
+fn coupled_run_resumes_with_its_files_where_the_scenario_named_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    let case = tmp.path().join("case");
+    std::fs::create_dir_all(&case).unwrap();
+    let mut disks = String::from("# x y r\n");
+    let (pitch, r) = (0.1e-3, 0.045e-3);
+    for row in -40i32..=40 {
+        for col in -40i32..=40 {
+            let x = (col as f64 + 0.5 * (row & 1) as f64) * pitch;
+            let y = row as f64 * pitch * 3f64.sqrt() / 2.0;
+            let rho = (x * x + y * y).sqrt();
+            if rho - r >= 2.0e-3 && rho + r <= 2.8e-3 {
+                disks.push_str(&format!("{x:e} {y:e} {r:e}\n"));
+            }
+        }
+    }
+    std::fs::write(case.join("disks.txt"), disks).unwrap();
+    let text = RING
+        .replace(
+            "[ring.packing]\nsource = \"lattice\"\nd0 = 0.1e-3\n",
+            "[ring.packing]\nsource = \"file\"\npath = \"disks.txt\"\n",
+        )
+        .replace(
+            "snapshots = [2.0e-6]\n",
+            "snapshots = [2.0e-6]\ncheckpoint_every = 100\n",
+        )
+        .replace("expected = 1.15", "expected = 1.0")
+        .replace("tolerance = 0.1", "tolerance = 0.5");
+    assert!(text.contains("path = \"disks.txt\""));
+    let file = case.join("ring.toml");
+    std::fs::write(&file, text).unwrap();
+    let f = file.to_str().unwrap();
+    let (a, b) = (tmp.path().join("straight"), tmp.path().join("paused"));
+    let (code, err) = run(&["run", f, "--out", a.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let (code, err) = run(&[
+        "run",
+        f,
+        "--out",
+        b.to_str().unwrap(),
+        "--stop-at-step",
+        "300",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, err) = run(&["resume", b.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let (sa, sb) = (summary_in(&a), summary_in(&b));
+    assert_eq!(sb["status"], "completed");
+    assert_eq!(sa["state_hash"], sb["state_hash"]);
+}

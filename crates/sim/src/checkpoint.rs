@@ -23,6 +23,11 @@ pub struct Progress {
     pub counters: Counters,
     /// What each observer saved, by name.
     pub observers: toml::Table,
+    /// The directory the scenario's relative paths were read from (absolute), so that
+    /// a run resumed from the copy in its output directory finds the files the original
+    /// names (a packing spec, a table); absent in older checkpoints.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base: Option<std::path::PathBuf>,
 }
 
 /// Writes a checkpoint atomically.

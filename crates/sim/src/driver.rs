@@ -235,6 +235,8 @@ pub struct Control<'a> {
     pub checkpoint_dir: Option<PathBuf>,
     /// The scenario text the checkpoints belong to.
     pub scenario_text: &'a str,
+    /// The directory its relative paths start at (absolute), kept in checkpoints.
+    pub scenario_base: Option<PathBuf>,
 }
 
 /// Figures and checks of a run, filled by the observers at the end.
@@ -467,6 +469,7 @@ fn save_checkpoint<S: Simulation>(
     let mut saved = SavedProgress {
         counters: counters.clone(),
         observers: toml::Table::new(),
+        base: control.scenario_base.clone(),
     };
     for o in observers.iter() {
         if let Some((name, v)) = o.save() {

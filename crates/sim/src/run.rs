@@ -117,10 +117,12 @@ pub fn resume(dir: &Path, mut opts: RunOptions) -> Result<Finished, RunError> {
     match scenario::parse(&src).map_err(RunError::Input)? {
         Scenario::Dem(s) => {
             let saved = dem::run::load_checkpoint(&s, &src, dir)?;
+            let src = from_base(src, saved.base());
             dem::run::run(&s, &src, opts, Some(saved))
         }
         Scenario::FemDem(s) => {
             let saved = blast::run::load_checkpoint(&src, dir)?;
+            let src = from_base(src, saved.base());
             blast::run::run(&s, &src, opts, Some(saved))
         }
         other => Err(RunError::Input(format!(
@@ -129,6 +131,15 @@ pub fn resume(dir: &Path, mut opts: RunOptions) -> Result<Finished, RunError> {
             other.engine()
         ))),
     }
+}
+
+/// The scenario copy of a run directory, its relative paths read from where the
+/// original's were (as the checkpoint recorded it), when that directory still exists.
+fn from_base(mut src: Source, base: Option<&Path>) -> Source {
+    if let Some(b) = base.filter(|b| b.is_dir()) {
+        src.base = b.to_path_buf();
+    }
+    src
 }
 
 /// Prepares a fresh output directory: creates it, copies the scenario into it and
@@ -214,15 +225,21 @@ pub fn drive<S: Simulation>(
     observers: &mut [&mut dyn driver::Observer<S>],
     plan: &driver::Plan,
     opts: &mut RunOptions,
-    text: &str,
+    src: &Source,
     counters: driver::Counters,
 ) -> anyhow::Result<Outcome> {
+    let base = if src.base.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        src.base.as_path()
+    };
     let mut control = driver::Control {
         stop_at_step: opts.stop_at_step,
         interrupt: opts.interrupt,
         progress: opts.progress.as_mut(),
         checkpoint_dir: Some(opts.out.clone()),
-        scenario_text: text,
+        scenario_text: &src.text,
+        scenario_base: std::fs::canonicalize(base).ok(),
     };
     driver::run(sim, observers, plan, &mut control, counters)
 }

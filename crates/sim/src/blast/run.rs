@@ -122,6 +122,13 @@ pub struct Resume {
     state: Vec<u8>,
 }
 
+impl Resume {
+    /// Where the original scenario's relative paths started, if the checkpoint says.
+    pub fn base(&self) -> Option<&Path> {
+        self.progress.base.as_deref()
+    }
+}
+
 /// Reads `dir/checkpoint.bin` for the scenario copy in `dir` (its bytes are checked
 /// against the scenario when the run is rebuilt).
 pub fn load_checkpoint(src: &Source, dir: &Path) -> Result<Resume, RunError> {
@@ -219,14 +226,7 @@ pub fn run(
             restore_observers(&mut observers, &r.progress.observers)?;
         }
         let counters = counters.unwrap_or_else(|| Counters::fresh(&plan));
-        drive(
-            &mut sim,
-            &mut observers,
-            &plan,
-            &mut opts,
-            &src.text,
-            counters,
-        )?
+        drive(&mut sim, &mut observers, &plan, &mut opts, src, counters)?
     };
     let ring_mass: Option<f64> = sim.ring.as_ref().map(|r| {
         let p = &r.state.particles;

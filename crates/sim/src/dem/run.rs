@@ -23,6 +23,13 @@ pub struct Resume {
     state: State,
 }
 
+impl Resume {
+    /// Where the original scenario's relative paths started, if the checkpoint says.
+    pub fn base(&self) -> Option<&Path> {
+        self.progress.base.as_deref()
+    }
+}
+
 /// Reads `dir/checkpoint.bin` for the scenario copy in `dir`.
 pub fn load_checkpoint(s: &Scenario, src: &Source, dir: &Path) -> Result<Resume, RunError> {
     let (progress, bytes) =
@@ -137,14 +144,7 @@ pub fn run(
     if let Some(r) = &resume {
         restore_observers(&mut observers, &r.progress.observers)?;
     }
-    let outcome = drive(
-        &mut sim,
-        &mut observers,
-        &plan,
-        &mut opts,
-        &src.text,
-        counters,
-    )?;
+    let outcome = drive(&mut sim, &mut observers, &plan, &mut opts, src, counters)?;
     drop(observers);
     plots::write_all(&out.join("plots"), &history.history, &sim.setup, &sim.state)?;
     let mut counts = serde_json::Map::new();

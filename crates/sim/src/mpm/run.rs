@@ -263,7 +263,7 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
             &mut observers,
             &plan,
             &mut opts,
-            &src.text,
+            src,
             Counters::fresh(&plan),
         )?
     };
@@ -324,6 +324,7 @@ pub fn reference_loss(path: &Path, body: &str, k: usize) -> anyhow::Result<f64> 
         progress: &mut Silent,
         checkpoint_dir: None,
         scenario_text: &src.text,
+        scenario_base: None,
     };
     let mut observers: Vec<&mut dyn Observer<Mpm>> = vec![&mut watch];
     driver::run(
