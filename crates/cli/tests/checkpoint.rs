@@ -296,8 +296,12 @@ fn coupled_run_resumes_with_its_files_where_the_scenario_named_them() {
         "300",
     ]);
     assert_eq!(code, 0, "{err}");
+    // What a run killed while writing a checkpoint leaves behind goes at the resume.
+    let cut = b.join(".checkpoint.bin.tmp.12345.0.bin");
+    std::fs::write(&cut, b"half a checkpoint").unwrap();
     let (code, err) = run(&["resume", b.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
+    assert!(!cut.exists(), "a cut-short checkpoint was left behind");
     let (sa, sb) = (summary_in(&a), summary_in(&b));
     assert_eq!(sb["status"], "completed");
     assert_eq!(sa["state_hash"], sb["state_hash"]);

@@ -30,6 +30,19 @@ pub struct Progress {
     pub base: Option<std::path::PathBuf>,
 }
 
+/// Removes what a checkpoint write cut short left in `dir` (its temporary file, as
+/// large as a checkpoint): a run killed while writing one leaves it behind.
+pub fn remove_stale_temps(dir: &Path) {
+    let prefix = format!(".{FILE}.tmp.");
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        for e in entries.flatten() {
+            if e.file_name().to_string_lossy().starts_with(&prefix) {
+                let _ = std::fs::remove_file(e.path());
+            }
+        }
+    }
+}
+
 /// Writes a checkpoint atomically.
 pub fn save(
     path: &Path,

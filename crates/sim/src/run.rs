@@ -114,6 +114,7 @@ pub fn resume(dir: &Path, mut opts: RunOptions) -> Result<Finished, RunError> {
         }
     }
     opts.out = dir.to_path_buf();
+    crate::checkpoint::remove_stale_temps(dir);
     match scenario::parse(&src).map_err(RunError::Input)? {
         Scenario::Dem(s) => {
             let saved = dem::run::load_checkpoint(&s, &src, dir)?;
@@ -149,6 +150,7 @@ pub fn fresh_out(out: &Path, text: &str) -> anyhow::Result<()> {
     std::fs::create_dir_all(out)
         .with_context(|| format!("cannot create output directory {}", out.display()))?;
     write_atomic(&out.join("scenario.toml"), text.as_bytes())?;
+    crate::checkpoint::remove_stale_temps(out);
     let stale = out.join(crate::checkpoint::FILE);
     if stale.exists() {
         std::fs::remove_file(&stale)
