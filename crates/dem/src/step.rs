@@ -6,7 +6,7 @@
 //! through `post_force`: the step itself is never copied to add them.
 
 use crate::forces::pair_contacts;
-use crate::integrate::{kick_drift, walls_gather_kick, WallLoad};
+use crate::integrate::{kick_drift, walls_gather_kick, Drift, WallLoad};
 use crate::ledger::EnergyLedger;
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
@@ -91,34 +91,10 @@ pub fn step(setup: &Setup, s: &mut State, dt: f64) {
 
 /// Advances the state by one time step `dt`, with outside forces from `hooks`.
 pub fn step_with<H: Hooks>(setup: &Setup, s: &mut State, dt: f64, hooks: &mut H) {
-    let list = &mut s.contacts;
-    let drift = kick_drift(
-        setup,
-        &mut s.particles,
-        &list.pos_at_build,
-        list.frame.as_ref().map(|f| (f, &list.normal_at_build[..])),
-        dt,
-    );
-    let change = if !drift.moved {
-        ListChange::Kept
-    } else if drift.in_frame {
-        ListChange::Moved
-    } else {
-        let bounds = hooks.grid_box(setup, &s.particles);
-        list.rebuild_within(setup, bounds, &mut s.particles);
-        ListChange::Rebuilt
-    };
-    if change != ListChange::Rebuilt {
-        // Any frame will do for the next step's test; this one follows the particles.
-        let n = s.particles.len();
-        if let Some(f) = list.frame.as_mut() {
-            *f = f.estimate(&drift.sums, n);
-        }
-    }
-    let displacement = match change {
-        ListChange::Rebuilt => 0.0,
-        _ => drift.displacement,
-    };
+    let list = &s.contacts;
+    let frame = list.frame.as_ref().map(|f| (f, &list.normal_at_build[..]));
+    let drift = kick_drift(setup, &mut s.particles, &list.pos_at_build, frame, dt);
+    let (change, displacement) = neighbours(setup, s, &drift, hooks);
     hooks.post_neighbour(&s.particles, change, displacement);
     pair_contacts(
         setup,
@@ -131,4 +107,31 @@ pub fn step_with<H: Hooks>(setup: &Setup, s: &mut State, dt: f64, hooks: &mut H)
     s.wall_loads = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt);
     s.time += dt;
     s.step += 1;
+}
+
+/// The neighbour stage: keeps the list while it is still valid, else rebuilds it;
+/// returns what it did and the largest displacement since the list's build.
+fn neighbours<H: Hooks>(
+    setup: &Setup,
+    s: &mut State,
+    drift: &Drift,
+    hooks: &mut H,
+) -> (ListChange, f64) {
+    let list = &mut s.contacts;
+    if drift.moved && !drift.in_frame {
+        let bounds = hooks.grid_box(setup, &s.particles);
+        list.rebuild_within(setup, bounds, &mut s.particles);
+        return (ListChange::Rebuilt, 0.0);
+    }
+    // Any frame will do for the next step's test; this one follows the particles.
+    let n = s.particles.len();
+    if let Some(f) = list.frame.as_mut() {
+        *f = f.estimate(&drift.sums, n);
+    }
+    let change = if drift.moved {
+        ListChange::Moved
+    } else {
+        ListChange::Kept
+    };
+    (change, drift.displacement)
 }
