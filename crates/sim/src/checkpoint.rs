@@ -5,8 +5,8 @@
 //! panic or a silently different run.
 
 use crate::driver::Counters;
-use grains_core::atomic::write_atomic;
-use grains_core::hash::fnv1a;
+use grains_core::atomic::write_atomic_with;
+use grains_core::hash::{fnv1a, Fnv1a};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -43,25 +43,30 @@ pub fn remove_stale_temps(dir: &Path) {
     }
 }
 
-/// Writes a checkpoint atomically.
+/// Writes a checkpoint atomically, streaming the engine's bytes (as large as the state:
+/// 0.44 GB for xue-2019 test 1) rather than copying them once more.
 pub fn save(
     path: &Path,
     scenario_text: &str,
     state: &[u8],
     progress: &Progress,
 ) -> anyhow::Result<()> {
-    let mut bytes = Vec::with_capacity(64 + state.len());
-    bytes.extend_from_slice(MAGIC);
-    bytes.extend_from_slice(&VERSION.to_le_bytes());
-    bytes.extend_from_slice(&fnv1a(scenario_text.as_bytes()).to_le_bytes());
     // TOML rather than JSON: the recorders hold NaN and infinities, which TOML keeps.
     let meta = toml::to_string(progress)?.into_bytes();
-    bytes.extend_from_slice(&(meta.len() as u64).to_le_bytes());
-    bytes.extend_from_slice(&meta);
-    bytes.extend_from_slice(state);
-    let sum = fnv1a(&bytes);
-    bytes.extend_from_slice(&sum.to_le_bytes());
-    write_atomic(path, &bytes)?;
+    let mut head = Vec::with_capacity(28 + meta.len());
+    head.extend_from_slice(MAGIC);
+    head.extend_from_slice(&VERSION.to_le_bytes());
+    head.extend_from_slice(&fnv1a(scenario_text.as_bytes()).to_le_bytes());
+    head.extend_from_slice(&(meta.len() as u64).to_le_bytes());
+    head.extend_from_slice(&meta);
+    let mut sum = Fnv1a::default();
+    sum.bytes(&head);
+    sum.bytes(state);
+    write_atomic_with(path, |w| {
+        w.write_all(&head)?;
+        w.write_all(state)?;
+        w.write_all(&sum.finish().to_le_bytes())
+    })?;
     Ok(())
 }
 
