@@ -79,9 +79,20 @@ pub fn get_len(r: &mut impl Read, limit: usize) -> Result<usize, SnapshotError> 
     Ok(n as usize)
 }
 
+/// Reads `n` elements of `size` bytes. The buffer grows with the bytes actually there,
+/// so a corrupted length ends in an error, not in an allocation of its size.
 fn get_bytes(r: &mut impl Read, n: usize, size: usize) -> Result<Vec<u8>, SnapshotError> {
-    let mut buf = vec![0u8; n * size];
-    r.read_exact(&mut buf)?;
+    let want = n
+        .checked_mul(size)
+        .ok_or_else(|| SnapshotError::Invalid(format!("array of {n} elements is too large")))?;
+    let mut buf = Vec::new();
+    r.take(want as u64).read_to_end(&mut buf)?;
+    if buf.len() != want {
+        return Err(SnapshotError::Io(io::Error::new(
+            io::ErrorKind::UnexpectedEof,
+            format!("{} of {want} bytes", buf.len()),
+        )));
+    }
     Ok(buf)
 }
 
@@ -190,5 +201,10 @@ mod tests {
             get_f64(&mut &b[..12], 2),
             Err(SnapshotError::Io(_))
         ));
+        // A length far beyond the bytes there is refused without allocating it.
+        let mut huge = Vec::new();
+        put_len(&mut huge, usize::MAX / 16).unwrap();
+        huge.extend_from_slice(&[0u8; 64]);
+        assert!(get_vec2(&mut huge.as_slice(), usize::MAX).is_err());
     }
 }

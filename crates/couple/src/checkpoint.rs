@@ -76,8 +76,9 @@ pub fn read_into(
     nodes: usize,
     edges: usize,
 ) -> Result<(), SnapshotError> {
-    let state = grains_dem::checkpoint::read(r, max_particles)?;
     let n = ring.state.particles.len();
+    let state = grains_dem::checkpoint::read(r, max_particles.min(n))?;
+    grains_dem::checkpoint::fits(&state, &ring.setup)?;
     if state.particles.len() != n || state.contacts.n_walls != ring.state.contacts.n_walls {
         return Err(SnapshotError::Invalid(format!(
             "the checkpoint's ring has {} particles and {} walls, the scenario's {n} and {}",
@@ -95,14 +96,15 @@ pub fn read_into(
             scalars[0], scalars[1], c.stiffness, c.skin
         )));
     }
+    // A ring starts with a detection and a force evaluation, which size all three.
     let (built, apexes, lengths) = (head[2] as usize, head[3] as usize, head[4] as usize);
-    if built > edges || apexes > edges || lengths > nodes {
+    if built != edges || apexes != edges || lengths != nodes {
         return Err(SnapshotError::Invalid(format!(
             "the checkpoint's coupling covers {built} edges and {lengths} nodes, the charge has {edges} and {nodes}"
         )));
     }
-    // Each particle meets a handful of edges: a generous bound on the candidates.
-    let pairs = get_u32(r, 2 * (64 * n + 4 * edges + 64))?;
+    // At most every particle with every edge (the reader allocates only what is there).
+    let pairs = get_u32(r, n.saturating_mul(edges).saturating_mul(2))?;
     if pairs.len() % 2 != 0
         || pairs
             .chunks_exact(2)

@@ -10,6 +10,7 @@
 use crate::integrate::WallLoad;
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
+use crate::setup::Setup;
 use crate::step::State;
 use crate::verlet::Comoving;
 use glam::DVec2;
@@ -60,6 +61,29 @@ pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
     put_f64(w, &loads)
 }
 
+/// Whether a state read back fits the set-up it is to run with: its materials and walls.
+pub fn fits(state: &State, setup: &Setup) -> Result<(), SnapshotError> {
+    let materials = setup.materials.len();
+    if let Some(&m) = state
+        .particles
+        .material
+        .iter()
+        .find(|&&m| m as usize >= materials)
+    {
+        return Err(SnapshotError::Invalid(format!(
+            "a particle of material {m}, the set-up has {materials} materials"
+        )));
+    }
+    if state.contacts.n_walls != setup.walls.len() {
+        return Err(SnapshotError::Invalid(format!(
+            "{} walls, the set-up has {}",
+            state.contacts.n_walls,
+            setup.walls.len()
+        )));
+    }
+    Ok(())
+}
+
 /// Reads a state written by [`write`], checking that every array fits the others.
 /// `max_particles` bounds allocations so a corrupted length cannot exhaust memory.
 pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotError> {
@@ -83,7 +107,10 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
         force: Vec::new(),
         torque: Vec::new(),
     };
-    p.material = get_u32(r, n)?.into_iter().map(|m| m as u16).collect();
+    p.material = get_u32(r, n)?
+        .into_iter()
+        .map(|m| u16::try_from(m).unwrap_or(u16::MAX))
+        .collect();
     p.force = get_vec2(r, n)?;
     p.torque = get_f64(r, n)?;
     let n_walls = head[3] as usize;
@@ -163,7 +190,10 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
     ] {
         same(what, got, m)?;
     }
-    if c.row.last().copied().unwrap_or(0) as usize != m || c.row.windows(2).any(|w| w[0] > w[1]) {
+    if c.row.first() != Some(&0)
+        || c.row.last().copied().unwrap_or(0) as usize != m
+        || c.row.windows(2).any(|w| w[0] > w[1])
+    {
         return Err(SnapshotError::Invalid(
             "neighbour rows do not index the entries".into(),
         ));
@@ -179,6 +209,23 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
         return Err(SnapshotError::Invalid(
             "reverse rows do not index the reverse entries".into(),
         ));
+    }
+    // Ids index the springs' history at the next rebuild: each of 0..n once.
+    let mut seen = vec![false; n];
+    for &i in &p.id {
+        match seen.get_mut(i as usize) {
+            Some(s) if !*s => *s = true,
+            _ => {
+                return Err(SnapshotError::Invalid(format!(
+                    "particle id {i} out of range or repeated ({n} particles)"
+                )))
+            }
+        }
+    }
+    if n_walls < 64 && c.wall_near.iter().any(|&m| m >> n_walls != 0) {
+        return Err(SnapshotError::Invalid(format!(
+            "a particle is near a wall beyond the {n_walls} walls"
+        )));
     }
     if loads.len() % 4 != 0 {
         return Err(SnapshotError::Invalid("wall loads".into()));

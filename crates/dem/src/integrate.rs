@@ -43,7 +43,8 @@ pub struct Drift {
 /// gravity, then drift, and wrap positions on periodic axes. Measures, in the same sweep
 /// (no extra pass over memory), whether any particle has now moved more than skin/2 from
 /// `pos_at_build`, and, given an expanding `frame` with each particle's unit vector from
-/// its centre at the build, whether each is within skin/2 of where the frame carries it.
+/// its centre at the build, whether the two largest residuals from where the frame
+/// carries the particles add up to at most the skin.
 pub fn kick_drift(
     setup: &Setup,
     p: &mut Particles,
@@ -151,6 +152,8 @@ fn kick_drift_chunks<const PX: bool, const PY: bool>(
                         let e = delta - fr.shift - fr.radial * nb[k];
                         d2 = d2.max(delta.length_squared());
                         let e2 = e.length_squared();
+                        // A residual that is not a number must fail the test, not pass it.
+                        let e2 = if e2.is_nan() { f64::INFINITY } else { e2 };
                         if e2 > top[1] {
                             top = if e2 > top[0] {
                                 [e2, top[0]]
@@ -174,7 +177,11 @@ fn kick_drift_chunks<const PX: bool, const PY: bool>(
             }
             d
         })
-        .reduce(ChunkDrift::default, |a, b| ChunkDrift {
+        // Collected, then joined in chunk order: the frame's sums are floating-point
+        // additions, which must not depend on how the pool split the work.
+        .collect::<Vec<ChunkDrift>>()
+        .into_iter()
+        .fold(ChunkDrift::default(), |a, b| ChunkDrift {
             d2: a.d2.max(b.d2),
             residuals: top_two(a.residuals, b.residuals),
             sums: a.sums.join(b.sums),

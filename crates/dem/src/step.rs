@@ -72,8 +72,7 @@ pub enum ListChange {
     /// Every particle is within skin/2 of where it was at the last rebuild.
     Kept,
     /// The list is still valid in its expanding frame ([`crate::verlet`]), but some
-    /// particle has moved more than skin/2: lists kept by absolute positions (a coupled
-    /// solid's contacts) must be made again.
+    /// particle has moved more than skin/2 from where it was at the rebuild.
     Moved,
     /// The list was rebuilt and the particles re-sorted.
     Rebuilt,

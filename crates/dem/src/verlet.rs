@@ -10,8 +10,9 @@
 //! Write each particle's displacement since the build as Δ_i = s + u·n_i + e_i, with
 //! n_i the unit vector from a centre C to its position at the build X_i, a shift s and a
 //! radial displacement u ≥ 0 common to all particles. The map F(X) = X + s + u·n(X)
-//! never brings two points closer: with X − C = r₁e₁ and r₂e₂,
-//! |F(X₁) − F(X₂)|² − |X₁ − X₂|² = 2u (r₁ + r₂ + u)(1 − e₁·e₂) ≥ 0. So a pair now is at
+//! never brings two points closer: with X − C = r₁e₁ and r₂e₂ (r₁, r₂ > 0),
+//! |F(X₁) − F(X₂)|² − |X₁ − X₂|² = 2u (r₁ + r₂ + u)(1 − e₁·e₂) ≥ 0; and with n(C) = 0,
+//! |F(X) − F(C)| = r + u ≥ r. So a pair now is at
 //! least |X_i − X_j| − |e_i| − |e_j| apart, and a pair left out of the list (at least
 //! r_i + r_j + skin apart at the build) cannot touch while the two largest |e_i| add up
 //! to at most the skin: the classic rule with e in place of Δ (and its two largest
@@ -23,8 +24,8 @@
 //!
 //! The rule is used where it holds as derived: no walls (whose lists are kept by
 //! absolute positions) and no periodic axis. Lists kept by absolute positions outside
-//! the DEM (a coupled solid's contacts) are told when a particle has moved more than
-//! skin/2 in absolute terms ([`crate::step::ListChange::Moved`]).
+//! the DEM (a coupled solid's contacts) are given the largest displacement since the
+//! build ([`crate::step::Hooks::post_neighbour`]) to judge themselves by.
 
 use crate::setup::Setup;
 use glam::DVec2;
@@ -105,8 +106,8 @@ impl Comoving {
         }
     }
 
-    /// The unit vector from the centre to `x` (zero at the centre, where F fixes the
-    /// point and still brings nothing closer).
+    /// The unit vector from the centre to `x` (zero at the centre, which F only shifts,
+    /// and which it still brings no closer to any point).
     #[inline(always)]
     pub fn normal(&self, x: DVec2) -> DVec2 {
         let r = x - self.centre;

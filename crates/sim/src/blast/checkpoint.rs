@@ -37,7 +37,11 @@ impl Blast {
     pub fn restore(&mut self, bytes: &[u8]) -> Result<(), SnapshotError> {
         let r = &mut &bytes[..];
         let f = get_f64_exact(r, 7, "run scalars")?;
-        let has_ring = get_u64_exact(r, 1, "ring flag")?[0] == 1;
+        let has_ring = match get_u64_exact(r, 1, "ring flag")?[0] {
+            0 => false,
+            1 => true,
+            k => return Err(SnapshotError::Invalid(format!("ring flag {k}"))),
+        };
         if has_ring != self.ring.is_some() {
             return Err(SnapshotError::Invalid(format!(
                 "the checkpoint {} a ring, the scenario {}",

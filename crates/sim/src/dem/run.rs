@@ -68,8 +68,23 @@ pub fn run(
             )
         }
         Some(r) => {
+            let refuse = |e: grains_dem::checkpoint::SnapshotError| {
+                RunError::Input(format!("{}: {e}", out.join(checkpoint::FILE).display()))
+            };
+            let materials = s.materials.len();
+            if r.state
+                .particles
+                .material
+                .iter()
+                .any(|&m| m as usize >= materials)
+            {
+                return Err(refuse(grains_dem::checkpoint::SnapshotError::Invalid(
+                    format!("a particle's material is beyond the scenario's {materials}"),
+                )));
+            }
             let a: Assembled =
                 assemble_with(s, &src.base, Some(r.state.particles.clone())).map_err(input)?;
+            grains_dem::checkpoint::fits(&r.state, &a.setup).map_err(refuse)?;
             let (steps, dt_critical) = (a.steps, a.dt_critical);
             let dem = Dem::resumed(a.setup, r.state.clone(), a.dt, s.output.lammps_dump);
             (dem, steps, dt_critical)
