@@ -30,6 +30,21 @@ pub struct Progress {
     pub base: Option<std::path::PathBuf>,
 }
 
+/// A checkpoint read back: the run loop's progress and the engine's state `S`.
+pub struct Resumed<S> {
+    /// The loop's counters, the observers' records, the scenario's directory.
+    pub progress: Progress,
+    /// The engine's state (or its bytes).
+    pub state: S,
+}
+
+impl<S> Resumed<S> {
+    /// Where the original scenario's relative paths started, if the checkpoint says.
+    pub fn base(&self) -> Option<&Path> {
+        self.progress.base.as_deref()
+    }
+}
+
 /// Removes what a checkpoint write cut short left in `dir` (its temporary file, as
 /// large as a checkpoint): a run killed while writing one leaves it behind.
 pub fn remove_stale_temps(dir: &Path) {

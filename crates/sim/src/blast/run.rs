@@ -4,7 +4,7 @@
 use super::assemble::{assemble, assemble_with, on_demand, Unmade};
 use super::scenario::Scenario;
 use super::{ledger, models, plots, probes, Blast, BlastSample, CAPABILITIES};
-use crate::checkpoint::{self, Progress as Saved};
+use crate::checkpoint;
 use crate::dispersal::DispersalObserver;
 use crate::driver::{discount, restore_observers, Counters, Observer, Report, Status};
 use crate::frames::FrameRecorder;
@@ -117,17 +117,7 @@ pub const LEDGER_COLUMNS: [&str; 5] = [
 ];
 
 /// A checkpoint read back: the run loop's progress and the run's state bytes.
-pub struct Resume {
-    progress: Saved,
-    state: Vec<u8>,
-}
-
-impl Resume {
-    /// Where the original scenario's relative paths started, if the checkpoint says.
-    pub fn base(&self) -> Option<&Path> {
-        self.progress.base.as_deref()
-    }
-}
+pub type Resume = checkpoint::Resumed<Vec<u8>>;
 
 /// Reads `dir/checkpoint.bin` for the scenario copy in `dir` (its bytes are checked
 /// against the scenario when the run is rebuilt).

@@ -7,7 +7,7 @@ use super::records::figures;
 use super::rest::RestDetector;
 use super::scenario::Scenario;
 use super::{plots, Dem, CAPABILITIES};
-use crate::checkpoint::{self, Progress as Saved};
+use crate::checkpoint;
 use crate::dispersal::DispersalObserver;
 use crate::driver::{restore_observers, Counters, Every, Observer, Report, Status};
 use crate::frames::{FrameRecorder, Snapshots};
@@ -18,17 +18,7 @@ use grains_dem::State;
 use std::path::Path;
 
 /// A checkpoint read back: the run loop's progress and the engine state.
-pub struct Resume {
-    progress: Saved,
-    state: State,
-}
-
-impl Resume {
-    /// Where the original scenario's relative paths started, if the checkpoint says.
-    pub fn base(&self) -> Option<&Path> {
-        self.progress.base.as_deref()
-    }
-}
+pub type Resume = checkpoint::Resumed<State>;
 
 /// Reads `dir/checkpoint.bin` for the scenario copy in `dir`.
 pub fn load_checkpoint(s: &Scenario, src: &Source, dir: &Path) -> Result<Resume, RunError> {
@@ -68,23 +58,8 @@ pub fn run(
             )
         }
         Some(r) => {
-            let refuse = |e: grains_dem::checkpoint::SnapshotError| {
-                RunError::Input(format!("{}: {e}", out.join(checkpoint::FILE).display()))
-            };
-            let materials = s.materials.len();
-            if r.state
-                .particles
-                .material
-                .iter()
-                .any(|&m| m as usize >= materials)
-            {
-                return Err(refuse(grains_dem::checkpoint::SnapshotError::Invalid(
-                    format!("a particle's material is beyond the scenario's {materials}"),
-                )));
-            }
             let a: Assembled =
                 assemble_with(s, &src.base, Some(r.state.particles.clone())).map_err(input)?;
-            grains_dem::checkpoint::fits(&r.state, &a.setup).map_err(refuse)?;
             let (steps, dt_critical) = (a.steps, a.dt_critical);
             let dem = Dem::resumed(a.setup, r.state.clone(), a.dt, s.output.lammps_dump);
             (dem, steps, dt_critical)
