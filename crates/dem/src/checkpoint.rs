@@ -210,6 +210,8 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
             "reverse rows do not index the reverse entries".into(),
         ));
     }
+    // Derived, not stored; the rows were checked above.
+    c.index_owners();
     // Ids index the springs' history at the next rebuild: each of 0..n once.
     let mut seen = vec![false; n];
     for &i in &p.id {

@@ -203,6 +203,7 @@ fn run<L: PairLookup, T: Tally, const PX: bool, const PY: bool>(
         lookup,
         row,
         nbr: &list.nbr,
+        owner: &list.owner,
         pos: &p.pos,
         vel: &p.vel,
         omega: &p.omega,
@@ -244,6 +245,7 @@ struct Ctx<'a, L, T, const PX: bool, const PY: bool> {
     lookup: &'a L,
     row: &'a [u32],
     nbr: &'a [u32],
+    owner: &'a [u32],
     pos: &'a [DVec2],
     vel: &'a [DVec2],
     omega: &'a [f64],
@@ -337,41 +339,42 @@ impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, 
                 sum: PassTally::default(),
             })
         });
-        for i in c.range.clone() {
+        // One flat loop over the chunk's entries: a loop per row (two to five entries)
+        // ends at a place the branch predictor cannot know.
+        let entries = base..self.row[c.range.end] as usize;
+        let (owner, nbr) = (&self.owner[entries.clone()], &self.nbr[entries]);
+        for (k, (&i, &j)) in owner.iter().zip(nbr).enumerate() {
+            let (i, j) = (i as usize, j as usize);
             let (pi, ri) = (self.pos[i], self.radius[i]);
-            for e in self.row[i] as usize..self.row[i + 1] as usize {
-                let j = self.nbr[e] as usize;
-                let d = self.image.apply(self.pos[j] - pi);
-                let rj = self.radius[j];
-                let rsum = ri + rj;
-                let dist2 = d.length_squared();
-                let k = e - base;
-                // Every entry is written into the block's next slot, and the slot is kept
-                // only if the pair touches: no unpredictable branch per entry. Entries
-                // start cleared; the scatter writes back those that touch.
-                let touching = (dist2 < rsum * rsum) & (dist2 > 0.0);
-                // Always < BLOCK (the block is flushed when full); the mask lets the
-                // compiler see it and drop thirteen index checks per entry.
-                let t = len & (BLOCK - 1);
-                b.entry[t] = k as u32;
-                b.i[t] = i as u32;
-                b.j[t] = j as u32;
-                b.dx[t] = d.x;
-                b.dy[t] = d.y;
-                b.rsum[t] = rsum;
-                b.xi[t] = c.shear[k];
-                c.shear[k] = 0.0;
-                if j >= c.range.end {
-                    // Only cross-chunk entries carry their force out of the pass.
-                    c.fpair[k] = DVec2::ZERO;
-                    c.ftan[k] = 0.0;
-                }
-                len += touching as usize;
-                if len == BLOCK {
-                    b.len = len;
-                    self.flush(&mut b, c, tally.as_deref_mut());
-                    len = 0;
-                }
+            let d = self.image.apply(self.pos[j] - pi);
+            let rj = self.radius[j];
+            let rsum = ri + rj;
+            let dist2 = d.length_squared();
+            // Every entry is written into the block's next slot, and the slot is kept
+            // only if the pair touches: no unpredictable branch per entry. Entries
+            // start cleared; the scatter writes back those that touch.
+            let touching = (dist2 < rsum * rsum) & (dist2 > 0.0);
+            // Always < BLOCK (the block is flushed when full); the mask lets the
+            // compiler see it and drop thirteen index checks per entry.
+            let t = len & (BLOCK - 1);
+            b.entry[t] = k as u32;
+            b.i[t] = i as u32;
+            b.j[t] = j as u32;
+            b.dx[t] = d.x;
+            b.dy[t] = d.y;
+            b.rsum[t] = rsum;
+            b.xi[t] = c.shear[k];
+            c.shear[k] = 0.0;
+            if j >= c.range.end {
+                // Only cross-chunk entries carry their force out of the pass.
+                c.fpair[k] = DVec2::ZERO;
+                c.ftan[k] = 0.0;
+            }
+            len += touching as usize;
+            if len == BLOCK {
+                b.len = len;
+                self.flush(&mut b, c, tally.as_deref_mut());
+                len = 0;
             }
         }
         b.len = len;

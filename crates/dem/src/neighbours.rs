@@ -23,6 +23,10 @@ pub struct ContactList {
     pub row: Vec<u32>,
     /// Partner index j of each entry.
     pub nbr: Vec<u32>,
+    /// Row owner i of each entry (made from `row`: [`ContactList::index_owners`]), so
+    /// the pair pass walks the entries in one flat loop instead of a short loop per row,
+    /// whose exit the processor cannot predict.
+    pub owner: Vec<u32>,
     /// Tangential spring displacement ξ of each entry (m); zero when not touching.
     pub shear: Vec<f64>,
     /// Force on the row owner from this entry at the last evaluation (the partner gets
@@ -289,10 +293,8 @@ impl ContactList {
     /// Indexes, by partner, the entries whose partner lies in another chunk than the
     /// row owner: only their reactions are gathered after the pair pass.
     fn build_reverse(&mut self, n: usize) {
-        let mut owner = vec![0u32; self.nbr.len()];
-        for i in 0..n {
-            owner[self.row[i] as usize..self.row[i + 1] as usize].fill(i as u32);
-        }
+        self.index_owners();
+        let owner = &self.owner;
         let cross = |e: usize, j: u32| owner[e] as usize / CHUNK != j as usize / CHUNK;
         let mut count = vec![0u32; n + 1];
         for (e, &j) in self.nbr.iter().enumerate() {
@@ -314,6 +316,15 @@ impl ContactList {
             let slot = &mut fill[j as usize];
             self.rev_entry[*slot as usize] = e as u32;
             *slot += 1;
+        }
+    }
+
+    /// Makes `owner` from `row` (after a rebuild, or a list read back from a checkpoint).
+    pub fn index_owners(&mut self) {
+        self.owner.clear();
+        self.owner.resize(self.nbr.len(), 0);
+        for i in 0..self.row.len().saturating_sub(1) {
+            self.owner[self.row[i] as usize..self.row[i + 1] as usize].fill(i as u32);
         }
     }
 

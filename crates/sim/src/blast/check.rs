@@ -12,9 +12,11 @@ use crate::packings::Cached;
 use crate::source::Source;
 use std::f64::consts::PI;
 
-/// Bytes per particle as in DEM, plus the coupling's candidate pairs; bytes per
-/// element of the charge (state, node shares and scratch).
-const BYTES_PER_PARTICLE: u64 = 360;
+/// Bytes per particle: as in DEM, plus the coupling's candidate pairs and the ring
+/// analysis's copies (xue-2019 test 1 held 1.22 GB resident at 1,803,137 disks, 677 B
+/// per disk, mid-run on 2026-11-27); bytes per element of the charge (state, node
+/// shares and scratch).
+const BYTES_PER_PARTICLE: u64 = 700;
 const BYTES_PER_ELEMENT: u64 = 400;
 /// Elements that cost as much as one particle in a step.
 const ELEMENTS_PER_PARTICLE: u64 = 4;

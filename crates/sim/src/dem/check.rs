@@ -8,11 +8,12 @@ use crate::check::{Derived, Line};
 use crate::estimate::{self, rate, Estimate};
 use crate::source::Source;
 
-/// Bytes per particle: state (≈ 100 B), neighbour list with history and per-entry
-/// forces (≈ 4 entries × 40 B), reverse index and skin bookkeeping (≈ 30 B), and one
-/// wall spring per wall; the 1.8 M-disk bed peaks at 585 MB (≈ 325 B per disk).
+/// Bytes per particle: state (≈ 100 B), neighbour list with its owners, history and
+/// per-entry forces (≈ 4 entries × 44 B), reverse index and skin bookkeeping (≈ 30 B),
+/// and one wall spring per wall; the 1.8 M-disk bed peaked at 585 MB (≈ 325 B per disk)
+/// before the entries' owners were kept (≈ 11 B per disk more).
 fn bytes_per_particle(walls: usize) -> u64 {
-    330 + 8 * walls as u64
+    346 + 8 * walls as u64
 }
 
 /// The number of particles the scenario's sources hold, counted without building them
