@@ -360,9 +360,7 @@ pub fn run<S: Simulation>(
                     return Ok(());
                 }
             }
-            if due(plan.frames, c, &mut counters.next_frame) {
-                frame(sim, observers, FrameKind::Regular, &mut counters)?;
-            }
+            let regular = due(plan.frames, c, &mut counters.next_frame);
             let mut snapped = false;
             while counters.snapshots_done < plan.snapshots.len()
                 && c.time >= plan.snapshots[counters.snapshots_done] * (1.0 - 1e-9)
@@ -370,8 +368,12 @@ pub fn run<S: Simulation>(
                 counters.snapshots_done += 1;
                 snapped = true;
             }
+            // A snapshot on a step the schedule also wants is one frame, not the same
+            // state twice in the series.
             if snapped {
                 frame(sim, observers, FrameKind::Snapshot, &mut counters)?;
+            } else if regular {
+                frame(sim, observers, FrameKind::Regular, &mut counters)?;
             }
             control.progress.update(plan.horizon.fraction(c), c);
             let pause = control.stop_at_step.is_some_and(|s| c.step >= s);
