@@ -8,16 +8,14 @@
 //! the container's job (the CLI adds a checksum over the whole file).
 
 use crate::integrate::WallLoad;
+use crate::math::{self, AngVector, Components, Tangent, Vector};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::step::State;
 use crate::verlet::Comoving;
-use glam::DVec2;
 pub use grains_core::snapshot::SnapshotError;
-use grains_core::snapshot::{
-    get_f64, get_u32, get_u64, get_vec2, put_f64, put_u32, put_u64, put_vec2,
-};
+use grains_core::snapshot::{get_f64, get_u32, get_u64, put_f64, put_u32, put_u64};
 use std::io::{self, Read, Write};
 
 /// Writes the state.
@@ -29,34 +27,43 @@ pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
         &[state.step, state.time.to_bits(), c.builds, c.n_walls as u64],
     )?;
     put_u32(w, &p.id)?;
-    put_vec2(w, &p.pos)?;
-    put_vec2(w, &p.vel)?;
-    put_f64(w, &p.omega)?;
+    math::put(w, &p.pos)?;
+    math::put(w, &p.vel)?;
+    math::put(w, &p.omega)?;
     put_f64(w, &p.radius)?;
     put_f64(w, &p.inv_mass)?;
     put_f64(w, &p.inv_inertia)?;
     put_u32(w, &p.material.iter().map(|&m| m as u32).collect::<Vec<_>>())?;
-    put_vec2(w, &p.force)?;
-    put_f64(w, &p.torque)?;
+    math::put(w, &p.force)?;
+    math::put(w, &p.torque)?;
     put_u32(w, &c.row)?;
     put_u32(w, &c.nbr)?;
-    put_f64(w, &c.shear)?;
-    put_vec2(w, &c.fpair)?;
-    put_f64(w, &c.ftan)?;
+    math::put(w, &c.shear)?;
+    math::put(w, &c.fpair)?;
+    math::put(w, &c.ftan)?;
     put_u32(w, &c.rev_row)?;
     put_u32(w, &c.rev_entry)?;
     put_u64(w, &c.wall_near)?;
-    put_f64(w, &c.wall_shear)?;
-    put_vec2(w, &c.pos_at_build)?;
+    math::put(w, &c.wall_shear)?;
+    math::put(w, &c.pos_at_build)?;
     let frame: Vec<f64> = c
         .frame
-        .map(|f| vec![f.centre.x, f.centre.y, f.shift.x, f.shift.y, f.radial])
+        .map(|f| {
+            let mut v = Vector::flatten(&[f.centre, f.shift]);
+            v.push(f.radial);
+            v
+        })
         .unwrap_or_default();
     put_f64(w, &frame)?;
     let loads: Vec<f64> = state
         .wall_loads
         .iter()
-        .flat_map(|l| [l.force.x, l.force.y, l.torque, l.contacts as f64])
+        .flat_map(|l| {
+            let mut v = Vector::flatten(&[l.force]);
+            v.extend(AngVector::flatten(&[l.torque]));
+            v.push(l.contacts as f64);
+            v
+        })
         .collect();
     put_f64(w, &loads)
 }
@@ -97,9 +104,9 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
     let n = id.len();
     let mut p = Particles {
         id,
-        pos: get_vec2(r, n)?,
-        vel: get_vec2(r, n)?,
-        omega: get_f64(r, n)?,
+        pos: math::get(r, n)?,
+        vel: math::get(r, n)?,
+        omega: math::get(r, n)?,
         radius: get_f64(r, n)?,
         inv_mass: get_f64(r, n)?,
         inv_inertia: get_f64(r, n)?,
@@ -111,8 +118,8 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
         .into_iter()
         .map(|m| u16::try_from(m).unwrap_or(u16::MAX))
         .collect();
-    p.force = get_vec2(r, n)?;
-    p.torque = get_f64(r, n)?;
+    p.force = math::get(r, n)?;
+    p.torque = math::get(r, n)?;
     let n_walls = head[3] as usize;
     if n_walls > crate::setup::MAX_WALLS {
         return Err(SnapshotError::Invalid(format!(
@@ -126,25 +133,27 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
         ..Default::default()
     };
     let m = c.nbr.len();
-    c.shear = get_f64(r, m)?;
-    c.fpair = get_vec2(r, m)?;
-    c.ftan = get_f64(r, m)?;
+    c.shear = math::get::<Tangent>(r, m)?;
+    c.fpair = math::get(r, m)?;
+    c.ftan = math::get(r, m)?;
     c.rev_row = get_u32(r, n + 1)?;
     c.rev_entry = get_u32(r, m)?;
     c.wall_near = get_u64(r, n)?;
-    c.wall_shear = get_f64(r, n * n_walls)?;
-    c.pos_at_build = get_vec2(r, n)?;
-    let frame = get_f64(r, 5)?;
+    c.wall_shear = math::get(r, n * n_walls)?;
+    c.pos_at_build = math::get(r, n)?;
+    let d = Vector::N;
+    let frame = get_f64(r, 2 * d + 1)?;
     c.frame = match frame.len() {
         0 => None,
-        5 => Some(Comoving {
-            centre: DVec2::new(frame[0], frame[1]),
-            shift: DVec2::new(frame[2], frame[3]),
-            radial: frame[4],
+        k if k == 2 * d + 1 => Some(Comoving {
+            centre: Vector::from_slice(&frame[..d]),
+            shift: Vector::from_slice(&frame[d..2 * d]),
+            radial: frame[2 * d],
         }),
         k => {
             return Err(SnapshotError::Invalid(format!(
-                "expanding frame: {k} values, expected 0 or 5"
+                "expanding frame: {k} values, expected 0 or {}",
+                2 * d + 1
             )))
         }
     };
@@ -155,7 +164,9 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
     };
     c.n_walls = n_walls;
     c.builds = head[2];
-    let loads = get_f64(r, 4 * 64)?;
+    // Per wall: the force, the torque and the contact count.
+    let stride = Vector::N + AngVector::N + 1;
+    let loads = get_f64(r, stride * crate::setup::MAX_WALLS)?;
     let same = |what: &str, got: usize, want: usize| {
         if got == want {
             Ok(())
@@ -229,15 +240,15 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
             "a particle is near a wall beyond the {n_walls} walls"
         )));
     }
-    if loads.len() % 4 != 0 {
+    if loads.len() % stride != 0 {
         return Err(SnapshotError::Invalid("wall loads".into()));
     }
     let wall_loads = loads
-        .chunks_exact(4)
+        .chunks_exact(stride)
         .map(|l| WallLoad {
-            force: DVec2::new(l[0], l[1]),
-            torque: l[2],
-            contacts: l[3] as u32,
+            force: Vector::from_slice(l),
+            torque: AngVector::from_slice(&l[Vector::N..]),
+            contacts: l[stride - 1] as u32,
         })
         .collect();
     Ok(State {

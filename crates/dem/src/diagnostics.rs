@@ -1,11 +1,11 @@
 //! Read-only measurements of a state: energies, momentum, contacts, overlaps.
 //! Nothing here changes the run (contact history included).
 
+use crate::math::{AngVector, Components, Tangent, TangentOps, Vector};
 use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::step::State;
 use crate::CHUNK;
-use glam::DVec2;
 use rayon::prelude::*;
 
 /// Global figures of one state.
@@ -20,7 +20,7 @@ pub struct Diagnostics {
     /// Elastic energy stored in contact springs (normal and tangential, walls included).
     pub elastic: f64,
     /// Total linear momentum.
-    pub momentum: DVec2,
+    pub momentum: Vector,
     /// Number of touching particle pairs.
     pub pair_contacts: usize,
     /// Number of touching particle–wall pairs.
@@ -68,10 +68,10 @@ pub fn measure(setup: &Setup, s: &State) -> Diagnostics {
                 let m = p.mass(i);
                 let v = p.vel[i];
                 d.kinetic_translational += 0.5 * m * v.length_squared();
-                d.kinetic_rotational += 0.5 * p.omega[i].powi(2) / p.inv_inertia[i];
+                d.kinetic_rotational += 0.5 * p.omega[i].dot(p.omega[i]) / p.inv_inertia[i];
                 d.potential -= m * setup.gravity.dot(p.pos[i]);
                 d.momentum += m * v;
-                d.finite &= p.pos[i].is_finite() && v.is_finite() && p.omega[i].is_finite();
+                d.finite &= p.pos[i].is_finite() && v.is_finite() && p.omega[i].finite();
                 let mi = p.material[i] as usize;
                 for e in list.row[i] as usize..list.row[i + 1] as usize {
                     let j = list.nbr[e] as usize;
@@ -79,8 +79,8 @@ pub fn measure(setup: &Setup, s: &State) -> Diagnostics {
                     let overlap = p.radius[i] + p.radius[j] - dist;
                     if overlap > 0.0 {
                         let pp = setup.pairs.get(mi, p.material[j] as usize);
-                        d.elastic +=
-                            0.5 * pp.kn * overlap * overlap + 0.5 * pp.kt * list.shear[e].powi(2);
+                        d.elastic += 0.5 * pp.kn * overlap * overlap
+                            + 0.5 * pp.kt * list.shear[e].dot(list.shear[e]);
                         d.pair_contacts += 1;
                         let rmin = p.radius[i].min(p.radius[j]);
                         d.max_overlap_ratio = d.max_overlap_ratio.max(overlap / rmin);
@@ -124,8 +124,8 @@ fn wall_terms(setup: &Setup, s: &State, i: usize, d: &mut Diagnostics) {
                 .wall_shear
                 .get(i * nw + w)
                 .copied()
-                .unwrap_or(0.0);
-            d.elastic += 0.5 * pp.kn * overlap * overlap + 0.5 * pp.kt * xi * xi;
+                .unwrap_or(Tangent::default());
+            d.elastic += 0.5 * pp.kn * overlap * overlap + xi.quad(0.5 * pp.kt);
             d.wall_contacts += 1;
             d.max_overlap_ratio = d.max_overlap_ratio.max(overlap / p.radius[i]);
         }
@@ -212,7 +212,7 @@ pub fn contact_pressure(setup: &Setup, s: &State, extra: &[f64]) -> Vec<f64> {
         }
     }
     (0..n)
-        .map(|i| sum[i] / (std::f64::consts::TAU * p.radius[i]))
+        .map(|i| sum[i] / crate::math::surface(p.radius[i]))
         .collect()
 }
 
@@ -238,15 +238,18 @@ pub fn state_hash(s: &State) -> u64 {
     let mut order: Vec<usize> = (0..p.len()).collect();
     order.sort_unstable_by_key(|&i| p.id[i]);
     for &i in &order {
-        for v in [p.pos[i].x, p.pos[i].y, p.vel[i].x, p.vel[i].y, p.omega[i]] {
-            h.f64(v);
+        let (x, v, w) = (p.pos[i], p.vel[i], p.omega[i]);
+        let parts = (0..Vector::N).map(|a| x.get(a));
+        let parts = parts.chain((0..Vector::N).map(|a| v.get(a)));
+        for c in parts.chain((0..AngVector::N).map(|a| w.get(a))) {
+            h.f64(c);
         }
     }
     let list = &s.contacts;
     let mut springs = Vec::new();
     for i in 0..p.len() {
         for e in list.row[i] as usize..list.row[i + 1] as usize {
-            if list.shear[e] != 0.0 {
+            if list.shear[e] != Tangent::default() {
                 let (a, b) = (p.id[i], p.id[list.nbr[e] as usize]);
                 springs.push(((a.min(b) as u64) << 32 | a.max(b) as u64, list.shear[e]));
             }
@@ -255,7 +258,9 @@ pub fn state_hash(s: &State) -> u64 {
     springs.sort_unstable_by_key(|&(k, _)| k);
     for (k, v) in springs {
         h.word(k);
-        h.f64(v);
+        for a in 0..Tangent::N {
+            h.f64(v.get(a));
+        }
     }
     h.finish()
 }

@@ -1,24 +1,24 @@
 //! The simulation box: bounds for the cell grid and periodicity per axis.
 
-use glam::DVec2;
+use crate::math::{Vector, DIM};
 use serde::{Deserialize, Serialize};
 
-/// Rectangular domain `[lo, hi]`. Along a periodic axis positions wrap and distances use
+/// Box-shaped domain `[lo, hi]`. Along a periodic axis positions wrap and distances use
 /// the minimum image; along a non-periodic axis particles may leave the box (they are then
 /// binned into the edge cells, which stays correct, only slower).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Domain {
-    /// Lower-left corner (m).
-    pub lo: DVec2,
-    /// Upper-right corner (m).
-    pub hi: DVec2,
-    /// Periodicity along x and y.
-    pub periodic: [bool; 2],
+    /// Lower corner (m).
+    pub lo: Vector,
+    /// Upper corner (m).
+    pub hi: Vector,
+    /// Periodicity per axis.
+    pub periodic: [bool; DIM],
 }
 
 impl Domain {
-    /// Box lengths along x and y.
-    pub fn length(&self) -> DVec2 {
+    /// Box lengths per axis.
+    pub fn length(&self) -> Vector {
         self.hi - self.lo
     }
 
@@ -26,8 +26,8 @@ impl Domain {
     /// half a period by much, so two comparisons replace a rounding call in the hot loop;
     /// a separation beyond 1.5 periods falls back to rounding.
     #[inline(always)]
-    pub fn min_image(&self, mut d: DVec2) -> DVec2 {
-        for a in 0..2 {
+    pub fn min_image(&self, mut d: Vector) -> Vector {
+        for a in 0..DIM {
             if self.periodic[a] {
                 let l = self.hi[a] - self.lo[a];
                 let h = 0.5 * l;
@@ -46,8 +46,8 @@ impl Domain {
 
     /// Maps a position back into the box along periodic axes.
     #[inline(always)]
-    pub fn wrap(&self, mut p: DVec2) -> DVec2 {
-        for a in 0..2 {
+    pub fn wrap(&self, mut p: Vector) -> Vector {
+        for a in 0..DIM {
             if self.periodic[a] {
                 let (lo, hi) = (self.lo[a], self.hi[a]);
                 let l = hi - lo;
@@ -70,19 +70,20 @@ impl Domain {
 }
 
 /// Minimum image for separations of two points inside the box (|d| < one period), with
-/// the periodicity fixed at compile time so hot loops carry no per-axis branches on it.
+/// the periodic axes fixed at compile time as the bit mask `P` (bit a: axis a periodic,
+/// see [`crate::with_image`]), so hot loops carry no per-axis branches on them.
 #[derive(Clone, Copy, Debug)]
-pub struct Image<const PX: bool, const PY: bool> {
-    lo: DVec2,
-    hi: DVec2,
-    period: DVec2,
-    half: DVec2,
+pub struct Image<const P: u8> {
+    lo: Vector,
+    hi: Vector,
+    period: Vector,
+    half: Vector,
 }
 
-impl<const PX: bool, const PY: bool> Image<PX, PY> {
-    /// The image rule of `domain` (whose periodicity must be `[PX, PY]`).
+impl<const P: u8> Image<P> {
+    /// The image rule of `domain` (whose periodic axes must be those of `P`).
     pub fn new(domain: &Domain) -> Self {
-        debug_assert_eq!(domain.periodic, [PX, PY]);
+        debug_assert!((0..DIM).all(|a| domain.periodic[a] == (P >> a & 1 == 1)));
         let period = domain.length();
         Image {
             lo: domain.lo,
@@ -95,19 +96,14 @@ impl<const PX: bool, const PY: bool> Image<PX, PY> {
     /// Brings back into the box a position that left it by less than one period (as a
     /// particle does in one stable step).
     #[inline(always)]
-    pub fn wrap(&self, mut p: DVec2) -> DVec2 {
-        if PX {
-            if p.x < self.lo.x {
-                p.x += self.period.x;
-            } else if p.x >= self.hi.x {
-                p.x -= self.period.x;
-            }
-        }
-        if PY {
-            if p.y < self.lo.y {
-                p.y += self.period.y;
-            } else if p.y >= self.hi.y {
-                p.y -= self.period.y;
+    pub fn wrap(&self, mut p: Vector) -> Vector {
+        for a in 0..DIM {
+            if P >> a & 1 == 1 {
+                if p[a] < self.lo[a] {
+                    p[a] += self.period[a];
+                } else if p[a] >= self.hi[a] {
+                    p[a] -= self.period[a];
+                }
             }
         }
         p
@@ -115,41 +111,24 @@ impl<const PX: bool, const PY: bool> Image<PX, PY> {
 
     /// Nearest image of a separation between two points inside the box.
     #[inline(always)]
-    pub fn apply(&self, mut d: DVec2) -> DVec2 {
-        if PX {
-            if d.x > self.half.x {
-                d.x -= self.period.x;
-            } else if d.x < -self.half.x {
-                d.x += self.period.x;
-            }
-        }
-        if PY {
-            if d.y > self.half.y {
-                d.y -= self.period.y;
-            } else if d.y < -self.half.y {
-                d.y += self.period.y;
+    pub fn apply(&self, mut d: Vector) -> Vector {
+        for a in 0..DIM {
+            if P >> a & 1 == 1 {
+                if d[a] > self.half[a] {
+                    d[a] -= self.period[a];
+                } else if d[a] < -self.half[a] {
+                    d[a] += self.period[a];
+                }
             }
         }
         d
     }
 }
 
-/// Calls `$f::<PX, PY>($args)` with the domain's periodicity as const generics.
-#[macro_export]
-macro_rules! with_image {
-    ($domain:expr, $f:ident $(::<$($g:ty),*>)?, ($($arg:expr),*)) => {
-        match $domain.periodic {
-            [false, false] => $f::<$($($g,)*)? false, false>($($arg),*),
-            [true, false] => $f::<$($($g,)*)? true, false>($($arg),*),
-            [false, true] => $f::<$($($g,)*)? false, true>($($arg),*),
-            [true, true] => $f::<$($($g,)*)? true, true>($($arg),*),
-        }
-    };
-}
-
-#[cfg(test)]
+#[cfg(all(test, feature = "dim2"))]
 mod tests {
     use super::*;
+    use glam::DVec2;
 
     #[test]
     fn min_image_and_wrap() {

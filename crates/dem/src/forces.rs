@@ -3,11 +3,11 @@
 use crate::contact::{PairParams, PairTable};
 use crate::domain::Image;
 use crate::ledger::{EnergyLedger, Off, On, PassTally, Tally};
+use crate::math::{self, AngVector, Components, Tangent, TangentOps, Vector, ANG, DIM, TAN};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::CHUNK;
-use glam::DVec2;
 use rayon::prelude::*;
 
 /// Normal and tangential force of one contact, and its updated tangential spring.
@@ -15,36 +15,36 @@ use rayon::prelude::*;
 pub struct ContactForce {
     /// Normal force (positive pushes the bodies apart).
     pub normal: f64,
-    /// Tangential force on body i along t = (−n_y, n_x).
-    pub tangential: f64,
+    /// Tangential force on body i ([`crate::math::Tangent`]: along t = (−n_y, n_x) in
+    /// 2D, a vector in the tangent plane in 3D).
+    pub tangential: Tangent,
     /// The tangential spring ξ after this evaluation.
-    pub shear: f64,
+    pub shear: Tangent,
 }
 
 /// Linear spring-dashpot normal force and incremental tangential spring with a Coulomb
-/// cap, for a contact with unit normal (`nx`, `ny`) from body i towards body j and
-/// overlap `overlap` > 0.
+/// cap, for a contact with unit normal `n` from body i towards body j and overlap
+/// `overlap` > 0.
 ///
-/// (`vx`, `vy`) is v_i − v_j; `spin` is r_i ω_i + r_j ω_j (the rotational part of the
-/// contact points' sliding speed; r_j ω_j = 0 for a wall); `shear` is the contact's
-/// tangential spring before the step, advanced by v_t·`dt` (`dt = 0` evaluates without
-/// advancing it). Written without branches, so a loop over many contacts vectorises.
+/// `v` is v_i − v_j; `spin` is r_i ω_i + r_j ω_j (the rotational part of the contact
+/// points' sliding velocity is spin × n; r_j ω_j = 0 for a wall); `shear` is the
+/// contact's tangential spring before the step, carried to the current normal
+/// ([`math::carry`]) and advanced by v_t·`dt` (`dt = 0` evaluates without advancing it).
+/// Written without branches, so a loop over many contacts vectorises.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn contact_law(
     p: &PairParams,
     m_eff: f64,
-    nx: f64,
-    ny: f64,
+    n: Vector,
     overlap: f64,
-    vx: f64,
-    vy: f64,
-    spin: f64,
-    shear: f64,
+    v: Vector,
+    spin: AngVector,
+    shear: Tangent,
     dt: f64,
 ) -> ContactForce {
-    let vn = vx * nx + vy * ny; // > 0 while approaching
-    let vt = (vy * nx - vx * ny) + spin; // along t = (−n_y, n_x)
+    let vn = v.dot(n); // > 0 while approaching
+    let vt = math::tangential_velocity(v, n, spin);
     let fnorm = p.kn * overlap + p.normal_dashpot(m_eff) * vn;
     let fnorm = if fnorm < p.fn_floor {
         p.fn_floor
@@ -52,15 +52,15 @@ pub fn contact_law(
         fnorm
     };
     let ct = p.gamma_t * m_eff;
-    let xi = shear + vt * dt;
-    let trial = -(p.kt * xi + ct * vt);
+    let xi = math::carry(shear, n) + vt * dt;
+    let trial = -(xi * p.kt + vt * ct);
     let cap = p.mu * fnorm.abs();
-    let slide = trial.abs() > cap;
+    let slide = trial.norm() > cap;
     // Sliding: the force sits on the cap and the spring is reset so that spring +
     // dashpot give exactly that force (the LAMMPS convention).
-    let ft = if slide { cap.copysign(trial) } else { trial };
+    let ft = if slide { trial.with_norm(cap) } else { trial };
     let xi = if slide {
-        -(ft + ct * vt) * p.inv_kt
+        -(ft + vt * ct) * p.inv_kt
     } else {
         xi
     };
@@ -77,16 +77,14 @@ pub fn contact_law(
 pub fn contact_force(
     p: &PairParams,
     m_eff: f64,
-    n: DVec2,
+    n: Vector,
     overlap: f64,
-    v_rel: DVec2,
-    spin: f64,
-    shear: &mut f64,
+    v_rel: Vector,
+    spin: AngVector,
+    shear: &mut Tangent,
     dt: f64,
 ) -> ContactForce {
-    let f = contact_law(
-        p, m_eff, n.x, n.y, overlap, v_rel.x, v_rel.y, spin, *shear, dt,
-    );
+    let f = contact_law(p, m_eff, n, overlap, v_rel, spin, *shear, dt);
     *shear = f.shear;
     f
 }
@@ -163,7 +161,7 @@ fn dispatch<T: Tally>(
     }
 }
 
-fn run<L: PairLookup, T: Tally, const PX: bool, const PY: bool>(
+fn run<L: PairLookup, T: Tally, const P: u8>(
     setup: &Setup,
     lookup: &L,
     p: &mut Particles,
@@ -199,7 +197,7 @@ fn run<L: PairLookup, T: Tally, const PX: bool, const PY: bool>(
         done += len;
     }
     let ctx = Ctx {
-        image: Image::<PX, PY>::new(&setup.domain),
+        image: Image::<P>::new(&setup.domain),
         lookup,
         row,
         nbr: &list.nbr,
@@ -240,15 +238,15 @@ const BLOCK: usize = 64;
 const _: () = assert!(BLOCK.is_power_of_two());
 
 /// Everything the pair pass reads.
-struct Ctx<'a, L, T, const PX: bool, const PY: bool> {
-    image: Image<PX, PY>,
+struct Ctx<'a, L, T, const P: u8> {
+    image: Image<P>,
     lookup: &'a L,
     row: &'a [u32],
     nbr: &'a [u32],
     owner: &'a [u32],
-    pos: &'a [DVec2],
-    vel: &'a [DVec2],
-    omega: &'a [f64],
+    pos: &'a [Vector],
+    vel: &'a [Vector],
+    omega: &'a [AngVector],
     radius: &'a [f64],
     inv_mass: &'a [f64],
     material: &'a [u16],
@@ -259,31 +257,34 @@ struct Ctx<'a, L, T, const PX: bool, const PY: bool> {
 /// The slices one task owns: its particles' rows, entries, forces and torques.
 struct Chunk<'a> {
     range: std::ops::Range<usize>,
-    shear: &'a mut [f64],
-    fpair: &'a mut [DVec2],
-    ftan: &'a mut [f64],
-    force: &'a mut [DVec2],
-    torque: &'a mut [f64],
+    shear: &'a mut [Tangent],
+    fpair: &'a mut [Vector],
+    ftan: &'a mut [AngVector],
+    force: &'a mut [Vector],
+    torque: &'a mut [AngVector],
 }
 
-/// The touching pairs of one block, one array per quantity.
+/// The touching pairs of one block, one array per quantity and component.
 struct Block {
     len: usize,
     entry: [u32; BLOCK],
     i: [u32; BLOCK],
     j: [u32; BLOCK],
     params: [PairParams; BLOCK],
-    dx: [f64; BLOCK],
-    dy: [f64; BLOCK],
+    /// Separation x_j − x_i (nearest image).
+    d: [[f64; BLOCK]; DIM],
     rsum: [f64; BLOCK],
     inv_msum: [f64; BLOCK],
-    vx: [f64; BLOCK],
-    vy: [f64; BLOCK],
-    spin: [f64; BLOCK],
-    xi: [f64; BLOCK],
-    fx: [f64; BLOCK],
-    fy: [f64; BLOCK],
-    ft: [f64; BLOCK],
+    /// v_i − v_j.
+    v: [[f64; BLOCK]; DIM],
+    /// r_i ω_i + r_j ω_j.
+    spin: [[f64; BLOCK]; ANG],
+    /// The tangential spring: before the law, then after it.
+    xi: [[f64; BLOCK]; TAN],
+    /// Force on i.
+    f: [[f64; BLOCK]; DIM],
+    /// n × F_t, the torque on i and on j per unit radius.
+    ft: [[f64; BLOCK]; ANG],
 }
 
 /// The ledger's terms per pair of a block, and its chunk's sums (with the ledger only:
@@ -304,29 +305,26 @@ impl Block {
             i: [0; BLOCK],
             j: [0; BLOCK],
             params: [PairParams::default(); BLOCK],
-            dx: [0.0; BLOCK],
-            dy: [0.0; BLOCK],
+            d: [[0.0; BLOCK]; DIM],
             rsum: [0.0; BLOCK],
             inv_msum: [0.0; BLOCK],
-            vx: [0.0; BLOCK],
-            vy: [0.0; BLOCK],
-            spin: [0.0; BLOCK],
-            xi: [0.0; BLOCK],
-            fx: [0.0; BLOCK],
-            fy: [0.0; BLOCK],
-            ft: [0.0; BLOCK],
+            v: [[0.0; BLOCK]; DIM],
+            spin: [[0.0; BLOCK]; ANG],
+            xi: [[0.0; BLOCK]; TAN],
+            f: [[0.0; BLOCK]; DIM],
+            ft: [[0.0; BLOCK]; ANG],
         })
     }
 }
 
-impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, PY> {
+impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
     /// The rows of one chunk. Forces of pairs inside the chunk go straight onto both
     /// particles; pairs reaching into a later chunk leave their force in the entry.
     /// Returns the chunk's ledger terms (zero without the ledger).
     fn chunk(&self, c: &mut Chunk) -> PassTally {
         let base = self.row[c.range.start] as usize;
-        c.force.fill(DVec2::ZERO);
-        c.torque.fill(0.0);
+        c.force.fill(Vector::ZERO);
+        c.torque.fill(AngVector::default());
         let mut b = Block::new();
         // The fill count lives in a register: kept in the block it would go through
         // memory on every entry, in one long dependent chain.
@@ -360,15 +358,14 @@ impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, 
             b.entry[t] = k as u32;
             b.i[t] = i as u32;
             b.j[t] = j as u32;
-            b.dx[t] = d.x;
-            b.dy[t] = d.y;
+            d.write(&mut b.d, t);
             b.rsum[t] = rsum;
-            b.xi[t] = c.shear[k];
-            c.shear[k] = 0.0;
+            c.shear[k].write(&mut b.xi, t);
+            c.shear[k] = Tangent::default();
             if j >= c.range.end {
                 // Only cross-chunk entries carry their force out of the pass.
-                c.fpair[k] = DVec2::ZERO;
-                c.ftan[k] = 0.0;
+                c.fpair[k] = Vector::ZERO;
+                c.ftan[k] = AngVector::default();
             }
             len += touching as usize;
             if len == BLOCK {
@@ -418,10 +415,8 @@ impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, 
             let (wi, wj) = (self.omega[i], self.omega[j]);
             let (ri, rj) = (self.radius[i], self.radius[j]);
             let (mi, mj) = (self.inv_mass[i], self.inv_mass[j]);
-            let v = vi - vj;
-            b.vx[t] = v.x;
-            b.vy[t] = v.y;
-            b.spin[t] = ri * wi + rj * wj;
+            (vi - vj).write(&mut b.v, t);
+            (ri * wi + rj * wj).write(&mut b.spin, t);
             b.inv_msum[t] = mi + mj;
             if !L::UNIFORM {
                 b.params[t] = *self.lookup.params(self.material[i], self.material[j]);
@@ -443,49 +438,41 @@ impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, 
         for t in 0..n {
             // Recomputed rather than stored: cheaper than a store and a load per entry, and
             // the same operations give the same value as the touching test.
-            let dist = (b.dx[t] * b.dx[t] + b.dy[t] * b.dy[t]).sqrt();
+            let d = Vector::read(&b.d, t);
+            let dist = d.length_squared().sqrt();
             // One division serves both 1/dist and m_eff = 1/(1/m_i + 1/m_j).
             let q = 1.0 / (dist * b.inv_msum[t]);
             let inv_dist = q * b.inv_msum[t];
-            let (nx, ny) = (b.dx[t] * inv_dist, b.dy[t] * inv_dist);
+            let n = d * inv_dist;
             let pp = params(t);
-            let f = contact_law(
-                &pp,
-                q * dist,
-                nx,
-                ny,
-                b.rsum[t] - dist,
-                b.vx[t],
-                b.vy[t],
-                b.spin[t],
-                b.xi[t],
-                self.dt,
-            );
+            let (v, spin) = (Vector::read(&b.v, t), AngVector::read(&b.spin, t));
+            let xi0 = Tangent::read(&b.xi, t);
+            let f = contact_law(&pp, q * dist, n, b.rsum[t] - dist, v, spin, xi0, self.dt);
             if let (true, Some(tl)) = (T::ON, tally.as_deref_mut()) {
                 // The law's own kinematics (see crate::ledger).
-                let vn = b.vx[t] * nx + b.vy[t] * ny;
-                let vt = (b.vy[t] * nx - b.vx[t] * ny) + b.spin[t];
+                let vn = v.dot(n);
+                let vt = math::tangential_velocity(v, n, spin);
                 let elastic = pp.kn * (b.rsum[t] - dist);
                 // Sliding resets the spring; the tangential work less the spring's
                 // change is then friction's, the capped dashpot's share included.
-                let sliding = (f.shear != b.xi[t] + vt * self.dt) as u8 as f64;
-                let (x0, x1) = (b.xi[t], f.shear);
-                let dash_t = pp.gamma_t * (q * dist) * vt * vt * self.dt;
+                let x0 = math::carry(xi0, n);
+                let sliding = (f.shear != x0 + vt * self.dt) as u8 as f64;
+                let x1 = f.shear;
+                let dash_t = vt.quad(pp.gamma_t * (q * dist)) * self.dt;
                 tl.damped[t] = (f.normal - elastic) * vn * self.dt + (1.0 - sliding) * dash_t;
                 let overlap = b.rsum[t] - dist;
                 tl.stored[t] = [
                     0.5 * elastic * overlap,
-                    0.5 * pp.kt * x1 * x1,
-                    0.5 * pp.kt * x0 * x0,
+                    x1.quad(0.5 * pp.kt),
+                    x0.quad(0.5 * pp.kt),
                 ];
-                tl.slid[t] =
-                    sliding * (pp.kt * (x1 * vt * self.dt - 0.5 * (x1 * x1 - x0 * x0)) + dash_t);
+                tl.slid[t] = sliding
+                    * (pp.kt * (x1.dot(vt) * self.dt - 0.5 * (x1.dot(x1) - x0.dot(x0))) + dash_t);
             }
-            // Force on i: −F_n n + F_t t, with t = (−n_y, n_x).
-            b.fx[t] = -f.normal * nx - f.tangential * ny;
-            b.fy[t] = -f.normal * ny + f.tangential * nx;
-            b.ft[t] = f.tangential;
-            b.xi[t] = f.shear;
+            // Force on i: −F_n n + F_t.
+            (-f.normal * n + math::tangent_vector(f.tangential, n)).write(&mut b.f, t);
+            math::moment(f.tangential, n).write(&mut b.ft, t);
+            f.shear.write(&mut b.xi, t);
         }
     }
 
@@ -495,7 +482,7 @@ impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, 
         let (first, end) = (c.range.start, c.range.end);
         // A block holds rows in order, so the row owner's sums stay in registers until
         // the owner changes.
-        let (mut owner, mut f_own, mut t_own) = (usize::MAX, DVec2::ZERO, 0.0);
+        let (mut owner, mut f_own, mut t_own) = (usize::MAX, Vector::ZERO, AngVector::default());
         for t in 0..n {
             let (i, j, k) = (b.i[t] as usize, b.j[t] as usize, b.entry[t] as usize);
             if i != owner {
@@ -503,18 +490,19 @@ impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, 
                     c.force[owner - first] += f_own;
                     c.torque[owner - first] += self.radius[owner] * t_own;
                 }
-                (owner, f_own, t_own) = (i, DVec2::ZERO, 0.0);
+                (owner, f_own, t_own) = (i, Vector::ZERO, AngVector::default());
             }
-            let fv = DVec2::new(b.fx[t], b.fy[t]);
-            c.shear[k] = b.xi[t];
+            let fv = Vector::read(&b.f, t);
+            let ft = AngVector::read(&b.ft, t);
+            c.shear[k] = Tangent::read(&b.xi, t);
             f_own += fv;
-            t_own += b.ft[t];
+            t_own += ft;
             if j < end {
                 c.force[j - first] -= fv;
-                c.torque[j - first] += self.radius[j] * b.ft[t];
+                c.torque[j - first] += self.radius[j] * ft;
             } else {
                 c.fpair[k] = fv;
-                c.ftan[k] = b.ft[t];
+                c.ftan[k] = ft;
             }
         }
         if owner != usize::MAX {
@@ -525,9 +513,10 @@ impl<L: PairLookup, T: Tally, const PX: bool, const PY: bool> Ctx<'_, L, T, PX, 
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "dim2"))]
 mod tests {
     use super::*;
+    use glam::DVec2;
 
     #[test]
     fn coulomb_cap_holds_and_history_matches_force() {

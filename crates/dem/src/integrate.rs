@@ -3,21 +3,21 @@
 
 use crate::domain::Image;
 use crate::forces::contact_force;
+use crate::math::{self, AngVector, Vector};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::verlet::{Comoving, Sums};
 use crate::CHUNK;
-use glam::DVec2;
 use rayon::prelude::*;
 
 /// Resultant load that the particles exert on one wall.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct WallLoad {
-    /// Force on the wall (N per unit thickness).
-    pub force: DVec2,
-    /// Torque on the wall about its reference point (segment midpoint, circle centre).
-    pub torque: f64,
+    /// Force on the wall (N; per unit thickness in 2D).
+    pub force: Vector,
+    /// Torque on the wall about its reference point (`WallShape::reference`).
+    pub torque: AngVector,
     /// Number of particles touching it.
     pub contacts: u32,
 }
@@ -48,8 +48,8 @@ pub struct Drift {
 pub fn kick_drift(
     setup: &Setup,
     p: &mut Particles,
-    pos_at_build: &[DVec2],
-    frame: Option<(&Comoving, &[DVec2])>,
+    pos_at_build: &[Vector],
+    frame: Option<(&Comoving, &[Vector])>,
     dt: f64,
 ) -> Drift {
     let stale =
@@ -95,16 +95,16 @@ fn top_two(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     }
 }
 
-fn kick_drift_chunks<const PX: bool, const PY: bool>(
+fn kick_drift_chunks<const P: u8>(
     setup: &Setup,
     p: &mut Particles,
-    built: &[DVec2],
+    built: &[Vector],
     stale: bool,
     frame: Option<&Comoving>,
-    normals: &[DVec2],
+    normals: &[Vector],
     dt: f64,
 ) -> ChunkDrift {
-    let image = Image::<PX, PY>::new(&setup.domain);
+    let image = Image::<P>::new(&setup.domain);
     let (h, g) = (0.5 * dt, setup.gravity);
     p.pos
         .par_chunks_mut(CHUNK)
@@ -146,7 +146,7 @@ fn kick_drift_chunks<const PX: bool, const PY: bool>(
                     let nb = &normals[c * CHUNK..c * CHUNK + n];
                     let (mut d2, mut top) = (0.0f64, [0.0f64; 2]);
                     let mut radial = [f64::INFINITY, f64::NEG_INFINITY];
-                    let (mut sum_d, mut sum_n) = (DVec2::ZERO, DVec2::ZERO);
+                    let (mut sum_d, mut sum_n) = (Vector::ZERO, Vector::ZERO);
                     for k in 0..n {
                         let delta = x[k] - b[k];
                         let e = delta - fr.shift - fr.radial * nb[k];
@@ -205,10 +205,12 @@ pub fn walls_gather_kick(
     let n = p.len();
     let nw = setup.walls.len();
     let nchunks = n.div_ceil(CHUNK);
-    let wall_shear: Vec<&mut [f64]> = if nw > 0 {
+    let wall_shear: Vec<&mut [math::Tangent]> = if nw > 0 {
         list.wall_shear.chunks_mut(CHUNK * nw).collect()
     } else {
-        (0..nchunks).map(|_| &mut [] as &mut [f64]).collect()
+        (0..nchunks)
+            .map(|_| &mut [] as &mut [math::Tangent])
+            .collect()
     };
     let (pos, radius, inv_mass, inv_inertia, material) =
         (&p.pos, &p.radius, &p.inv_mass, &p.inv_inertia, &p.material);
@@ -230,7 +232,7 @@ pub fn walls_gather_kick(
                 let i = c * CHUNK + k;
                 let r = radius[i];
                 let mut f = force[k];
-                let mut t_rev = 0.0;
+                let mut t_rev = AngVector::default();
                 for &e in &rev_entry[rev_row[i] as usize..rev_row[i + 1] as usize] {
                     f -= fpair[e as usize];
                     t_rev += ftan[e as usize];
@@ -245,7 +247,7 @@ pub fn walls_gather_kick(
                         continue;
                     };
                     if touch.distance >= r {
-                        *shear = 0.0;
+                        *shear = crate::math::Tangent::default();
                         continue;
                     }
                     let params = setup.wall_pair(w, material[i] as usize);
@@ -260,13 +262,14 @@ pub fn walls_gather_kick(
                         shear,
                         dt_shear,
                     );
-                    let fw = -cf.normal * touch.normal + cf.tangential * touch.normal.perp();
+                    let fw = -cf.normal * touch.normal
+                        + math::tangent_vector(cf.tangential, touch.normal);
                     f += fw;
-                    tq += r * cf.tangential;
+                    tq += r * math::moment(cf.tangential, touch.normal);
                     let at = pos[i] + touch.normal * touch.distance;
-                    let arm = at - wall_reference(&setup.walls[w].shape);
+                    let arm = at - setup.walls[w].shape.reference();
                     loads[w].force -= fw;
-                    loads[w].torque -= arm.perp_dot(fw);
+                    loads[w].torque -= math::cross(arm, fw);
                     loads[w].contacts += 1;
                 }
                 force[k] = f;
@@ -287,11 +290,4 @@ pub fn walls_gather_kick(
         }
     }
     total
-}
-
-fn wall_reference(shape: &crate::walls::WallShape) -> DVec2 {
-    match *shape {
-        crate::walls::WallShape::Segment { a, b } => 0.5 * (DVec2::from(a) + DVec2::from(b)),
-        crate::walls::WallShape::Circle { centre, .. } => DVec2::from(centre),
-    }
 }

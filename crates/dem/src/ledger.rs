@@ -26,6 +26,7 @@
 //! version of the pass compiled for it ([`Tally`]): without the ledger the pass is the
 //! code it was, and with it the forces and the state are the same bit for bit.
 
+use crate::math::TangentOps;
 use crate::setup::Setup;
 use crate::step::State;
 use std::ops::AddAssign;
@@ -73,7 +74,7 @@ impl EnergyLedger {
                 if overlap > 0.0 {
                     l.stored_normal += 0.5 * pp.kn * overlap * overlap;
                 }
-                l.stored_tangential += 0.5 * pp.kt * list.shear[e] * list.shear[e];
+                l.stored_tangential += list.shear[e].quad(0.5 * pp.kt);
             }
         }
         l

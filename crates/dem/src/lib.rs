@@ -1,9 +1,12 @@
-//! Two-dimensional discrete element method (DEM) for disks, after xue-2019 Appendix B.
+//! Discrete element method (DEM) after xue-2019 Appendix B, in two dimensions (disks,
+//! built as `grains-dem`) and in three (spheres, built from this same source as
+//! `grains-dem3d`); the dimension lives in [`math`] alone.
 //!
-//! Disks carry mass and moment of inertia per unit thickness and interact through a
-//! linear spring-dashpot normal force and an incremental tangential spring capped by
-//! Coulomb friction, whose history lives as long as the contact does. Walls (segments
-//! and circles) use the same law with an infinitely heavy, non-rotating partner.
+//! Particles interact through a linear spring-dashpot normal force and an incremental
+//! tangential spring capped by Coulomb friction, whose history lives as long as the
+//! contact does (in 3D it is kept in the tangent plane as the contact turns). Walls
+//! (segments and circles in 2D; planes, spheres and cylinders in 3D) use the same law
+//! with an infinitely heavy, non-rotating partner.
 //!
 //! One time step is a short, fixed sequence of named stages (see [`step::step`]):
 //! `kick_drift → neighbours → pair_contacts → walls_gather_kick`, with outside forces
@@ -23,6 +26,7 @@ pub mod forces;
 pub mod integrate;
 pub mod ledger;
 pub mod material;
+pub mod math;
 pub mod neighbours;
 pub mod particles;
 pub mod setup;

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 pub struct Material {
     /// Name the particles and walls refer to.
     pub name: String,
-    /// Density ρ (kg/m³); disk mass per unit thickness is ρπr².
+    /// Density ρ (kg/m³): a disk's mass per unit thickness is ρπr², a sphere's 4/3 ρπr³.
     pub density: f64,
     /// Young's modulus Y (Pa).
     #[serde(default)]
@@ -24,14 +24,15 @@ pub struct Material {
     /// Coulomb friction coefficient μ ≥ 0.
     #[serde(default)]
     pub friction: Option<f64>,
-    /// Moment of inertia as a fraction of m r²: 0.5 for a disk (default); 0.4 reproduces
-    /// LAMMPS `fix nve/sphere` without the `disc` keyword.
+    /// Moment of inertia as a fraction of m r²: by default a uniform disk's 0.5 in 2D, a
+    /// uniform sphere's 0.4 in 3D; 0.4 in 2D reproduces LAMMPS `fix nve/sphere` without
+    /// the `disc` keyword.
     #[serde(default = "default_inertia")]
     pub inertia_factor: f64,
 }
 
 fn default_inertia() -> f64 {
-    0.5
+    crate::math::INERTIA_FACTOR
 }
 
 impl Material {

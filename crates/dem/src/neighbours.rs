@@ -8,11 +8,11 @@
 //! (in a frame that expands with the particles, where the set-up names one:
 //! [`crate::verlet`]).
 
+use crate::math::{AngVector, Tangent, Vector, DIM, STENCIL};
 use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::verlet::{frame_centre, Comoving};
 use crate::CHUNK;
-use glam::DVec2;
 use rayon::prelude::*;
 
 /// Half neighbour list (each pair once, owned by the lower index) with per-entry
@@ -28,14 +28,14 @@ pub struct ContactList {
     /// whose exit the processor cannot predict.
     pub owner: Vec<u32>,
     /// Tangential spring displacement ξ of each entry (m); zero when not touching.
-    pub shear: Vec<f64>,
+    pub shear: Vec<Tangent>,
     /// Force on the row owner from this entry at the last evaluation (the partner gets
     /// the opposite). Kept only for entries whose partner lies in another chunk; the
     /// pair pass applies the others directly.
-    pub fpair: Vec<DVec2>,
-    /// Tangential force F_t of this entry (each side's torque is its radius times F_t);
-    /// kept, like `fpair`, for cross-chunk entries.
-    pub ftan: Vec<f64>,
+    pub fpair: Vec<Vector>,
+    /// n × F_t of this entry (each side's torque is its radius times this); kept, like
+    /// `fpair`, for cross-chunk entries.
+    pub ftan: Vec<AngVector>,
     /// Cross-chunk entries in which particle j is the partner are
     /// `rev_entry[rev_row[j]..rev_row[j+1]]`, in increasing entry order.
     pub rev_row: Vec<u32>,
@@ -44,16 +44,16 @@ pub struct ContactList {
     /// Bit w is set when wall w may touch the particle before the next rebuild.
     pub wall_near: Vec<u64>,
     /// Tangential spring of each particle–wall pair, `[i * n_walls + w]`.
-    pub wall_shear: Vec<f64>,
+    pub wall_shear: Vec<Tangent>,
     /// Number of walls (stride of `wall_shear`).
     pub n_walls: usize,
     /// Positions at the last rebuild, for the skin criterion.
-    pub pos_at_build: Vec<DVec2>,
+    pub pos_at_build: Vec<Vector>,
     /// The expanding frame the list is judged in since the last rebuild, where the
     /// set-up has one ([`crate::verlet`]).
     pub frame: Option<Comoving>,
     /// With a frame: each particle's unit vector from its centre at the last rebuild.
-    pub normal_at_build: Vec<DVec2>,
+    pub normal_at_build: Vec<Vector>,
     /// Number of rebuilds so far.
     pub builds: u64,
 }
@@ -61,35 +61,34 @@ pub struct ContactList {
 /// Uniform cell grid over the domain; cells are at least the largest cutoff wide.
 #[derive(Clone, Copy, Debug)]
 struct CellGrid {
-    lo: DVec2,
-    inv_h: DVec2,
-    n: [usize; 2],
-    periodic: [bool; 2],
+    lo: Vector,
+    inv_h: Vector,
+    n: [usize; DIM],
+    periodic: [bool; DIM],
 }
 
 impl CellGrid {
-    fn new(setup: &Setup, bounds: (DVec2, DVec2), particles: &Particles) -> Self {
+    fn new(setup: &Setup, bounds: (Vector, Vector), particles: &Particles) -> Self {
         let d = &setup.domain;
         // Periodic axes tile the domain exactly; non-periodic ones span `bounds`.
-        let lo = DVec2::new(
-            if d.periodic[0] { d.lo.x } else { bounds.0.x },
-            if d.periodic[1] { d.lo.y } else { bounds.0.y },
-        );
-        let hi = DVec2::new(
-            if d.periodic[0] { d.hi.x } else { bounds.1.x },
-            if d.periodic[1] { d.hi.y } else { bounds.1.y },
-        );
+        let (mut lo, mut hi) = bounds;
+        for a in 0..DIM {
+            if d.periodic[a] {
+                lo[a] = d.lo[a];
+                hi[a] = d.hi[a];
+            }
+        }
         let len = hi - lo;
         let mut h = (2.0 * particles.max_radius() + setup.skin).max(f64::MIN_POSITIVE);
         // Bound the cell count (and memory) for sparse systems in large boxes.
         let max_cells = (4 * particles.len()).max(1024) as f64;
-        let want = (len.x / h).ceil() * (len.y / h).ceil();
+        let want = (1..DIM).fold((len[0] / h).ceil(), |w, a| w * (len[a] / h).ceil());
         if want > max_cells {
-            h *= (want / max_cells).sqrt();
+            h *= crate::math::cell_growth(want / max_cells);
         }
-        let mut n = [1usize; 2];
-        let mut inv_h = DVec2::ZERO;
-        for a in 0..2 {
+        let mut n = [1usize; DIM];
+        let mut inv_h = Vector::ZERO;
+        for a in 0..DIM {
             let l = len[a];
             if d.periodic[a] {
                 // Cells must tile a periodic axis exactly, each at least h wide.
@@ -109,38 +108,41 @@ impl CellGrid {
     }
 
     #[inline]
-    fn coords(&self, p: DVec2) -> [usize; 2] {
+    fn coords(&self, p: Vector) -> [usize; DIM] {
         let c = (p - self.lo) * self.inv_h;
         let clamp = |v: f64, n: usize| (v.floor().max(0.0) as usize).min(n - 1);
-        [clamp(c.x, self.n[0]), clamp(c.y, self.n[1])]
+        std::array::from_fn(|a| clamp(c[a], self.n[a]))
     }
 
+    /// Cells are numbered with the first axis fastest.
     #[inline]
-    fn index(&self, c: [usize; 2]) -> usize {
-        c[1] * self.n[0] + c[0]
+    fn index(&self, c: [usize; DIM]) -> usize {
+        (0..DIM).rev().fold(0, |k, a| k * self.n[a] + c[a])
     }
 
     fn count(&self) -> usize {
-        self.n[0] * self.n[1]
+        self.n.iter().product()
     }
 
-    /// The distinct cells within one cell of `c` (wrapping periodic axes).
-    fn around(&self, c: [usize; 2]) -> ([usize; 9], usize) {
-        let mut out = [0usize; 9];
+    /// The distinct cells within one cell of `c` (wrapping periodic axes), the first
+    /// axis's offset changing fastest.
+    fn around(&self, c: [usize; DIM]) -> ([usize; STENCIL], usize) {
+        let mut out = [0usize; STENCIL];
         let mut k = 0;
-        for dy in -1i64..=1 {
-            let Some(y) = self.step(c[1], dy, 1) else {
-                continue;
-            };
-            for dx in -1i64..=1 {
-                let Some(x) = self.step(c[0], dx, 0) else {
-                    continue;
+        'offsets: for o in 0..STENCIL {
+            let mut at = [0usize; DIM];
+            let mut digits = o;
+            for a in 0..DIM {
+                let Some(x) = self.step(c[a], (digits % 3) as i64 - 1, a) else {
+                    continue 'offsets;
                 };
-                let id = self.index([x, y]);
-                if !out[..k].contains(&id) {
-                    out[k] = id;
-                    k += 1;
-                }
+                at[a] = x;
+                digits /= 3;
+            }
+            let id = self.index(at);
+            if !out[..k].contains(&id) {
+                out[k] = id;
+                k += 1;
             }
         }
         (out, k)
@@ -184,14 +186,14 @@ impl ContactList {
     pub fn rebuild_within(
         &mut self,
         setup: &Setup,
-        bounds: (DVec2, DVec2),
+        bounds: (Vector, Vector),
         particles: &mut Particles,
     ) {
         let n = particles.len();
         let nw = setup.walls.len();
         let old = self.history_by_id(particles);
         if self.wall_shear.len() != n * nw {
-            self.wall_shear = vec![0.0; n * nw];
+            self.wall_shear = vec![Tangent::default(); n * nw];
         }
         self.n_walls = nw;
 
@@ -211,7 +213,7 @@ impl ContactList {
         }
 
         // Rows, built per fixed chunk and concatenated in order (deterministic).
-        let parts: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
+        let parts: Vec<(Vec<u32>, Vec<u32>, Vec<Tangent>)> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
                 let range = c * CHUNK..((c + 1) * CHUNK).min(n);
@@ -232,9 +234,9 @@ impl ContactList {
         }
         let m = self.nbr.len();
         self.fpair.clear();
-        self.fpair.resize(m, DVec2::ZERO);
+        self.fpair.resize(m, Vector::ZERO);
         self.ftan.clear();
-        self.ftan.resize(m, 0.0);
+        self.ftan.resize(m, AngVector::default());
         self.build_reverse(n);
         self.find_walls(setup, particles);
         self.pos_at_build.clone_from(&particles.pos);
@@ -258,7 +260,7 @@ impl ContactList {
             return h;
         }
         // A counting sort by the lower id: two passes over the list, no comparison sort.
-        let live = |e: usize| self.shear[e] != 0.0;
+        let live = |e: usize| self.shear[e] != Tangent::default();
         let ids = |i: usize, e: usize| {
             let (a, b) = (particles.id[i], particles.id[self.nbr[e] as usize]);
             (a.min(b) as usize, a.max(b))
@@ -275,7 +277,7 @@ impl ContactList {
         }
         let total = h.start[n + 1] as usize;
         h.partner = vec![0; total];
-        h.shear = vec![0.0; total];
+        h.shear = vec![Tangent::default(); total];
         for i in 0..n {
             for e in self.row[i] as usize..self.row[i + 1] as usize {
                 if live(e) {
@@ -350,7 +352,7 @@ impl ContactList {
                         if close {
                             *mask |= 1 << w;
                         } else {
-                            ws[k * nw + w] = 0.0;
+                            ws[k * nw + w] = Tangent::default();
                         }
                     }
                 }
@@ -388,20 +390,20 @@ fn sort_by_cell(grid: &CellGrid, particles: &Particles) -> (Vec<u32>, Vec<u32>) 
 struct History {
     start: Vec<u32>,
     partner: Vec<u32>,
-    shear: Vec<f64>,
+    shear: Vec<Tangent>,
 }
 
 impl History {
     /// The spring of the pair of ids (a, b), 0 if it was not touching.
     #[inline]
-    fn get(&self, a: u32, b: u32) -> f64 {
+    fn get(&self, a: u32, b: u32) -> Tangent {
         let (lo, hi) = (a.min(b) as usize, a.max(b));
         let (Some(&from), Some(&to)) = (self.start.get(lo), self.start.get(lo + 1)) else {
-            return 0.0;
+            return Tangent::default();
         };
         (from as usize..to as usize)
             .find(|&k| self.partner[k] == hi)
-            .map_or(0.0, |k| self.shear[k])
+            .map_or(Tangent::default(), |k| self.shear[k])
     }
 }
 
@@ -412,16 +414,16 @@ fn build_rows(
     p: &Particles,
     range: std::ops::Range<usize>,
     old: &History,
-) -> (Vec<u32>, Vec<u32>, Vec<f64>) {
+) -> (Vec<u32>, Vec<u32>, Vec<Tangent>) {
     let mut lens = Vec::with_capacity(range.len());
     let mut nbr = Vec::with_capacity(range.len() * 4);
     let mut shear = Vec::with_capacity(range.len() * 4);
     // The particles are sorted by cell, so a cell with a lower index holds only lower
     // indices (pairs its own rows list) and a higher one only higher: each row scans
-    // its own cell past itself and the stencil's higher cells, about half the 3 × 3
-    // block. Consecutive rows share a cell, so the stencil is found once per cell.
+    // its own cell past itself and the stencil's higher cells, about half the stencil.
+    // Consecutive rows share a cell, so the stencil is found once per cell.
     let mut cell = usize::MAX;
-    let mut ahead = ([0usize; 9], 0usize);
+    let mut ahead = ([0usize; STENCIL], 0usize);
     for i in range {
         let before = nbr.len();
         let at = grid.coords(p.pos[i]);

@@ -1,32 +1,32 @@
 //! Per-field (structure-of-arrays) particle storage.
 
-use glam::DVec2;
+use crate::math::{AngVector, Vector};
 
-/// All disks, one vector per field. Index order changes when the engine re-sorts
+/// All particles, one vector per field. Index order changes when the engine re-sorts
 /// particles spatially; `id` is the stable identity given at creation.
 #[derive(Clone, Debug, Default)]
 pub struct Particles {
     /// Stable identity (0..N at creation).
     pub id: Vec<u32>,
     /// Centre position (m).
-    pub pos: Vec<DVec2>,
+    pub pos: Vec<Vector>,
     /// Velocity (m/s).
-    pub vel: Vec<DVec2>,
-    /// Angular velocity about z (rad/s, counter-clockwise positive).
-    pub omega: Vec<f64>,
+    pub vel: Vec<Vector>,
+    /// Angular velocity (rad/s; in 2D about z, counter-clockwise positive).
+    pub omega: Vec<AngVector>,
     /// Radius (m).
     pub radius: Vec<f64>,
-    /// 1 / mass per unit thickness.
+    /// 1 / mass (per unit thickness in 2D).
     pub inv_mass: Vec<f64>,
-    /// 1 / moment of inertia per unit thickness.
+    /// 1 / moment of inertia (per unit thickness in 2D).
     pub inv_inertia: Vec<f64>,
     /// Material index into the scenario's material list.
     pub material: Vec<u16>,
     /// Contact force (particles and walls) of the last force evaluation; gravity acts as
     /// an acceleration and is not included.
-    pub force: Vec<DVec2>,
+    pub force: Vec<Vector>,
     /// Total torque of the last force evaluation.
-    pub torque: Vec<f64>,
+    pub torque: Vec<AngVector>,
 }
 
 impl Particles {
@@ -40,20 +40,20 @@ impl Particles {
         self.pos.is_empty()
     }
 
-    /// Appends a disk of the given density and inertia factor (I = f m r²), at rest
+    /// Appends a particle of the given density and inertia factor (I = f m r²), at rest
     /// unless `vel`/`omega` say otherwise.
     #[allow(clippy::too_many_arguments)]
     pub fn push(
         &mut self,
-        pos: DVec2,
+        pos: Vector,
         radius: f64,
         density: f64,
         inertia_factor: f64,
         material: u16,
-        vel: DVec2,
-        omega: f64,
+        vel: Vector,
+        omega: AngVector,
     ) {
-        let mass = density * std::f64::consts::PI * radius * radius;
+        let mass = crate::math::mass(density, radius);
         self.id.push(self.pos.len() as u32);
         self.pos.push(pos);
         self.vel.push(vel);
@@ -63,8 +63,8 @@ impl Particles {
         self.inv_inertia
             .push(1.0 / (inertia_factor * mass * radius * radius));
         self.material.push(material);
-        self.force.push(DVec2::ZERO);
-        self.torque.push(0.0);
+        self.force.push(Vector::ZERO);
+        self.torque.push(AngVector::default());
     }
 
     /// Mass of particle `i`.

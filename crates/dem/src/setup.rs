@@ -4,8 +4,8 @@
 use crate::contact::{ContactModel, PairTable};
 use crate::domain::Domain;
 use crate::material::Material;
+use crate::math::Vector;
 use crate::walls::Wall;
-use glam::DVec2;
 use grains_core::input::InputError;
 
 /// Everything the stages read and never write.
@@ -22,14 +22,14 @@ pub struct Setup {
     /// Rigid walls (at most [`MAX_WALLS`]).
     pub walls: Vec<Wall>,
     /// Gravitational acceleration (m/s²).
-    pub gravity: DVec2,
+    pub gravity: Vector,
     /// Verlet skin (m): pairs closer than r_i + r_j + skin are listed, and the list is
     /// rebuilt once any particle has moved more than skin/2 (in the frame below, if any).
     pub skin: f64,
     /// The point the particles spread from, when they do (an explosive ring): the list
     /// is then judged in a frame that expands from it ([`crate::verlet`]); `None`: the
     /// classic rule.
-    pub expanding_from: Option<DVec2>,
+    pub expanding_from: Option<Vector>,
 }
 
 /// Walls are tracked per particle in a 64-bit mask of nearby walls.
@@ -41,6 +41,17 @@ fn positive(key: String, v: f64) -> Result<(), InputError> {
 
 /// Checks that every material carries what the contact model needs, in range.
 pub fn validate_materials(model: &ContactModel, materials: &[Material]) -> Result<(), InputError> {
+    // The material route's stiffness is 2D's (N/m per unit thickness from Y); its 3D
+    // form (K_n = π R_eff Y_eff) depends on the pair's radii, which the per-material
+    // table does not know.
+    #[cfg(feature = "dim3")]
+    if let ContactModel::Material { .. } = model {
+        return Err(InputError::new(
+            "contact.model",
+            "material",
+            "in 3D, \"hooke_history\" (the 3D material law is not available yet)",
+        ));
+    }
     for m in materials {
         let key = |f: &str| format!("material.{}.{}", m.name, f);
         positive(key("density"), m.density)?;
@@ -118,7 +129,7 @@ impl Setup {
         materials: Vec<Material>,
         model: ContactModel,
         walls: Vec<Wall>,
-        gravity: DVec2,
+        gravity: Vector,
         skin: f64,
     ) -> Result<Self, InputError> {
         validate_materials(&model, &materials)?;
@@ -130,11 +141,11 @@ impl Setup {
             ));
         }
         let l = domain.length();
-        if !(l.x > 0.0 && l.y > 0.0 && l.is_finite()) {
+        if !((0..crate::math::DIM).all(|a| l[a] > 0.0) && l.is_finite()) {
             return Err(InputError::new(
                 "domain",
                 format!("lo = {:?}, hi = {:?}", domain.lo, domain.hi),
-                "hi must exceed lo on both axes",
+                "hi must exceed lo on every axis",
             ));
         }
         positive("run.skin".into(), skin)?;

@@ -8,15 +8,15 @@
 use crate::forces::pair_contacts;
 use crate::integrate::{kick_drift, walls_gather_kick, Drift, WallLoad};
 use crate::ledger::EnergyLedger;
+use crate::math::Vector;
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
-use glam::DVec2;
 
 /// Everything that evolves during a run.
 #[derive(Clone, Debug, Default)]
 pub struct State {
-    /// The disks.
+    /// The particles.
     pub particles: Particles,
     /// Neighbour list and contact history.
     pub contacts: ContactList,
@@ -50,7 +50,7 @@ impl State {
 pub trait Hooks {
     /// The box the neighbour cell grid spans along non-periodic axes when the list is
     /// rebuilt (lower and upper corner); default the domain's.
-    fn grid_box(&mut self, setup: &Setup, _particles: &Particles) -> (DVec2, DVec2) {
+    fn grid_box(&mut self, setup: &Setup, _particles: &Particles) -> (Vector, Vector) {
         (setup.domain.lo, setup.domain.hi)
     }
 

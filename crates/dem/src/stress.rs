@@ -1,34 +1,34 @@
-//! Each particle's contact stress (Love's average over the disk), for frames and for the
+//! Each particle's contact stress (Love's average over the particle), for frames and for the
 //! coarse-grained stress of the dispersal analysis (xue-2019 Eq. 6). Read-only: the
 //! contact forces are evaluated again from the state, springs as stored, not advanced.
 
 use crate::contact::PairParams;
 use crate::forces::contact_law;
+use crate::math::{self, outer, AngVector, Tangent, Tensor, Vector};
 use crate::setup::Setup;
 use crate::step::State;
-use glam::{DMat2, DVec2};
 
-/// The dyad `a ⊗ f` (`[a_i f_j]`).
-#[inline]
-fn outer(a: DVec2, f: DVec2) -> DMat2 {
-    DMat2::from_cols(a * f.x, a * f.y)
-}
-
-/// Each particle's contact stress σ_i = (1/πr_i²) Σ_c a_c ⊗ f_c (Pa per unit thickness,
-/// tension positive): `a_c` from the centre to the middle of the overlap, `f_c` the force
+/// Each particle's contact stress σ_i = (1/V_i) Σ_c a_c ⊗ f_c (Pa, tension positive; V_i
+/// the disk's area πr_i² in 2D, the stress per unit thickness, the sphere's volume in 3D): `a_c` from the centre to the middle of the overlap, `f_c` the force
 /// on the particle, over its pair and wall contacts. The forces are the contact law's
 /// with the present velocities and the stored tangential springs; summed over both
-/// particles of a pair the arms add up to the branch vector, so Σ_i πr_i² σ_i is Σ over
+/// particles of a pair the arms add up to the branch vector, so Σ_i V_i σ_i is Σ over
 /// contacts of l ⊗ f, the sum of Eq. 6.
-pub fn particle_stress(setup: &Setup, s: &State) -> Vec<DMat2> {
+pub fn particle_stress(setup: &Setup, s: &State) -> Vec<Tensor> {
     let p = &s.particles;
     let list = &s.contacts;
     let n = p.len();
-    let mut sum = vec![DMat2::ZERO; n];
-    let force = |pp: &PairParams, m_eff: f64, n: DVec2, overlap: f64, v: DVec2, spin, xi| {
-        let f = contact_law(pp, m_eff, n.x, n.y, overlap, v.x, v.y, spin, xi, 0.0);
-        // On the first body: −F_n n + F_t t, t = (−n_y, n_x).
-        -f.normal * n + f.tangential * n.perp()
+    let mut sum = vec![Tensor::ZERO; n];
+    let force = |pp: &PairParams,
+                 m_eff: f64,
+                 n: Vector,
+                 overlap: f64,
+                 v: Vector,
+                 spin: AngVector,
+                 xi: Tangent| {
+        let f = contact_law(pp, m_eff, n, overlap, v, spin, xi, 0.0);
+        // On the first body: −F_n n + F_t.
+        -f.normal * n + math::tangent_vector(f.tangential, n)
     };
     if list.row.len() == n + 1 {
         for i in 0..n {
@@ -70,7 +70,11 @@ pub fn particle_stress(setup: &Setup, s: &State) -> Vec<DMat2> {
             if overlap <= 0.0 {
                 continue;
             }
-            let xi = list.wall_shear.get(i * nw + w).copied().unwrap_or(0.0);
+            let xi = list
+                .wall_shear
+                .get(i * nw + w)
+                .copied()
+                .unwrap_or(Tangent::default());
             let pp = setup.wall_pair(w, p.material[i] as usize);
             let f = force(
                 pp,
@@ -86,17 +90,18 @@ pub fn particle_stress(setup: &Setup, s: &State) -> Vec<DMat2> {
     }
     sum.iter()
         .zip(&p.radius)
-        .map(|(m, r)| *m * (1.0 / (std::f64::consts::PI * r * r)))
+        .map(|(m, r)| *m * (1.0 / math::measure(*r)))
         .collect()
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "dim2"))]
 mod tests {
     use super::*;
     use crate::contact::ContactModel;
     use crate::domain::Domain;
     use crate::material::Material;
     use crate::particles::Particles;
+    use glam::DVec2;
 
     fn setup(materials: &[Material]) -> Setup {
         let domain = Domain {

@@ -27,16 +27,16 @@
 //! the DEM (a coupled solid's contacts) are given the largest displacement since the
 //! build ([`crate::step::Hooks::post_neighbour`]) to judge themselves by.
 
+use crate::math::Vector;
 use crate::setup::Setup;
-use glam::DVec2;
 
 /// The expanding frame the list is judged in: centre C, shift s and radial displacement u.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Comoving {
     /// The centre C the frame expands from (m).
-    pub centre: DVec2,
+    pub centre: Vector,
     /// The common shift s since the build (m).
-    pub shift: DVec2,
+    pub shift: Vector,
     /// The common radial displacement u ≥ 0 since the build (m).
     pub radial: f64,
 }
@@ -48,17 +48,17 @@ pub struct Sums {
     /// The smallest and largest radial displacement Δ_i · n_i (m).
     pub radial: [f64; 2],
     /// Σ Δ_i (m).
-    pub displacement: DVec2,
+    pub displacement: Vector,
     /// Σ n_i.
-    pub normal: DVec2,
+    pub normal: Vector,
 }
 
 impl Default for Sums {
     fn default() -> Self {
         Sums {
             radial: [f64::INFINITY, f64::NEG_INFINITY],
-            displacement: DVec2::ZERO,
-            normal: DVec2::ZERO,
+            displacement: Vector::ZERO,
+            normal: Vector::ZERO,
         }
     }
 }
@@ -79,7 +79,7 @@ impl Sums {
 
 impl Comoving {
     /// The frame at a build: nothing has moved yet.
-    pub fn at_build(centre: DVec2) -> Self {
+    pub fn at_build(centre: Vector) -> Self {
         Comoving {
             centre,
             ..Default::default()
@@ -109,27 +109,28 @@ impl Comoving {
     /// The unit vector from the centre to `x` (zero at the centre, which F only shifts,
     /// and which it still brings no closer to any point).
     #[inline(always)]
-    pub fn normal(&self, x: DVec2) -> DVec2 {
+    pub fn normal(&self, x: Vector) -> Vector {
         let r = x - self.centre;
         let l2 = r.length_squared();
         if l2 > 0.0 {
             r / l2.sqrt()
         } else {
-            DVec2::ZERO
+            Vector::ZERO
         }
     }
 }
 
 /// The centre of the expanding frame the list of `setup` may be judged in, if the rule
 /// holds there (see the module's notes).
-pub fn frame_centre(setup: &Setup) -> Option<DVec2> {
+pub fn frame_centre(setup: &Setup) -> Option<Vector> {
     let centre = setup.expanding_from?;
-    (setup.walls.is_empty() && setup.domain.periodic == [false, false]).then_some(centre)
+    (setup.walls.is_empty() && !setup.domain.periodic.contains(&true)).then_some(centre)
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "dim2"))]
 mod tests {
     use super::*;
+    use glam::DVec2;
 
     #[test]
     fn the_expanding_map_brings_no_two_points_closer() {

@@ -1,31 +1,9 @@
-//! Rigid walls: straight segments and circles. A wall acts on a disk through the same
-//! contact law as a particle, with infinite mass and no rotation.
+//! Rigid walls. A wall acts on a particle through the same contact law as a particle,
+//! with infinite mass and no rotation. Their shapes depend on the dimension
+//! ([`crate::math`]: segments and circles in 2D; planes, spheres and cylinders in 3D).
 
-use glam::DVec2;
-use serde::{Deserialize, Serialize};
-
-/// Geometry of a wall, as written in the scenario (`shape = "segment" | "circle"`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "shape", rename_all = "snake_case", deny_unknown_fields)]
-pub enum WallShape {
-    /// Segment from `a` to `b`; disks touch it from either side and at its end points.
-    Segment {
-        /// First end point (m).
-        a: [f64; 2],
-        /// Second end point (m).
-        b: [f64; 2],
-    },
-    /// Circle of `radius` about `centre`; `inside = true` keeps disks inside (a drum or
-    /// container), `false` keeps them outside (an obstacle).
-    Circle {
-        /// Centre (m).
-        centre: [f64; 2],
-        /// Radius (m).
-        radius: f64,
-        /// Disks live inside the circle.
-        inside: bool,
-    },
-}
+use crate::math::Vector;
+pub use crate::math::WallShape;
 
 /// A wall with its contact material (None: the touching particle's own material).
 #[derive(Clone, Debug, PartialEq)]
@@ -38,84 +16,42 @@ pub struct Wall {
     pub material: Option<u16>,
 }
 
-/// A disk–wall contact: unit normal from the disk centre towards the wall and overlap.
+/// A particle–wall contact: unit normal from the particle's centre towards the wall.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WallTouch {
     /// Unit normal pointing from the disk centre to the contact point.
-    pub normal: DVec2,
-    /// Distance from the disk centre to the wall surface along the normal (m).
+    pub normal: Vector,
+    /// Distance from the particle's centre to the wall surface along the normal (m).
     pub distance: f64,
 }
 
-impl WallShape {
-    /// Distance from `p` to the wall surface and the unit normal from `p` towards it.
-    /// None when the point sits exactly on the surface (no defined normal).
-    #[inline]
-    pub fn nearest(&self, p: DVec2) -> Option<WallTouch> {
-        match *self {
-            WallShape::Segment { a, b } => {
-                let a = DVec2::from(a);
-                let ab = DVec2::from(b) - a;
-                let len2 = ab.length_squared();
-                let t = if len2 > 0.0 {
-                    ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                let d = a + ab * t - p;
-                let dist = d.length();
-                (dist > 0.0).then(|| WallTouch {
-                    normal: d / dist,
-                    distance: dist,
-                })
-            }
-            WallShape::Circle {
-                centre,
-                radius,
-                inside,
-            } => {
-                let c = DVec2::from(centre);
-                let d = p - c;
-                let rho = d.length();
-                if rho == 0.0 {
-                    return None;
-                }
-                let radial = d / rho;
-                if inside {
-                    Some(WallTouch {
-                        normal: radial,
-                        distance: radius - rho,
-                    })
-                } else {
-                    Some(WallTouch {
-                        normal: -radial,
-                        distance: rho - radius,
-                    })
-                }
-            }
-        }
+/// A round wall (a circle, a sphere, a cylinder about the point level with `p`) of
+/// `radius` about `c`: particles inside or outside.
+#[inline]
+pub fn round(p: Vector, c: Vector, radius: f64, inside: bool) -> Option<WallTouch> {
+    let d = p - c;
+    let rho = d.length();
+    if rho == 0.0 {
+        return None;
     }
-
-    /// Points along the wall for drawing (a segment: its ends; a circle: a polygon).
-    pub fn outline(&self) -> Vec<DVec2> {
-        match *self {
-            WallShape::Segment { a, b } => vec![DVec2::from(a), DVec2::from(b)],
-            WallShape::Circle { centre, radius, .. } => {
-                let n = 256;
-                (0..=n)
-                    .map(|k| {
-                        let t = std::f64::consts::TAU * k as f64 / n as f64;
-                        DVec2::from(centre) + radius * DVec2::new(t.cos(), t.sin())
-                    })
-                    .collect()
-            }
-        }
+    let radial = d / rho;
+    if inside {
+        Some(WallTouch {
+            normal: radial,
+            distance: radius - rho,
+        })
+    } else {
+        Some(WallTouch {
+            normal: -radial,
+            distance: rho - radius,
+        })
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "dim2"))]
 mod tests {
     use super::*;
+    use glam::DVec2;
 
     #[test]
     fn segment_distance_and_normal() {

@@ -1,0 +1,312 @@
+//! The 3D build of the DEM source against closed-form results: a head-on collision of
+//! two spheres, an oblique impact on a plane in the sliding regime, a settled column's
+//! floor load, conservation of momenta, and bitwise equality across thread counts and
+//! through a checkpoint.
+
+use glam::DVec3;
+use grains_dem3d::diagnostics::{measure, state_hash};
+use grains_dem3d::{
+    step, ContactModel, Domain, Material, Particles, Setup, State, Wall, WallShape,
+};
+
+const RHO: f64 = 2500.0;
+
+fn glass() -> Material {
+    Material {
+        name: "glass".into(),
+        density: RHO,
+        youngs: None,
+        poisson: None,
+        restitution: None,
+        friction: None,
+        inertia_factor: 0.4,
+    }
+}
+
+/// LAMMPS `hooke/history` parameters: kn, kt = 2/7 kn, damping γn, γt = γn/2, μ.
+fn hooke(kn: f64, gamma_n: f64, mu: f64) -> ContactModel {
+    ContactModel::HookeHistory {
+        kn,
+        kt: 2.0 / 7.0 * kn,
+        gamma_n,
+        gamma_t: 0.5 * gamma_n,
+        mu,
+        limit_damping: false,
+    }
+}
+
+fn setup(model: ContactModel, walls: Vec<Wall>, gravity: DVec3, periodic: [bool; 3]) -> Setup {
+    let domain = Domain {
+        lo: DVec3::ZERO,
+        hi: DVec3::splat(0.1),
+        periodic,
+    };
+    Setup::new(domain, vec![glass()], model, walls, gravity, 1e-3).unwrap()
+}
+
+fn floor() -> Wall {
+    Wall {
+        name: "floor".into(),
+        shape: WallShape::Plane {
+            point: [0.0, 0.0, 0.0],
+            normal: [0.0, 0.0, 1.0],
+        },
+        material: None,
+    }
+}
+
+#[test]
+fn a_sphere_has_the_mass_and_inertia_of_a_ball() {
+    let mut p = Particles::default();
+    p.push(DVec3::ZERO, 0.01, RHO, 0.4, 0, DVec3::ZERO, DVec3::ZERO);
+    let m = RHO * 4.0 / 3.0 * std::f64::consts::PI * 1e-6;
+    assert!((p.mass(0) - m).abs() < 1e-15 * m);
+    assert!((1.0 / p.inv_inertia[0] - 0.4 * m * 1e-4).abs() < 1e-15 * m * 1e-4);
+}
+
+#[test]
+fn head_on_restitution_and_contact_time_of_the_linear_law() {
+    let (kn, gamma_n) = (1e5, 40.0);
+    let s = setup(hooke(kn, gamma_n, 0.0), vec![], DVec3::ZERO, [false; 3]);
+    let r = 0.005;
+    let mut p = Particles::default();
+    // Along a diagonal, so every axis takes part.
+    let u = DVec3::new(1.0, 2.0, 2.0) / 3.0;
+    let c = DVec3::splat(0.05);
+    p.push(c - 0.0102 * u, r, RHO, 0.4, 0, u, DVec3::ZERO);
+    p.push(c + 0.0102 * u, r, RHO, 0.4, 0, -u, DVec3::ZERO);
+    let m_eff = 0.5 * p.mass(0);
+    let mut st = State::new(&s, p);
+    let (mut t_in, mut t_out) = (None, None);
+    for _ in 0..40_000 {
+        step(&s, &mut st, 1e-6);
+        let touching = st.particles.pos[0].distance(st.particles.pos[1]) < 2.0 * r;
+        if touching && t_in.is_none() {
+            t_in = Some(st.time);
+        }
+        if !touching && t_in.is_some() && t_out.is_none() {
+            t_out = Some(st.time);
+        }
+    }
+    let v = st.particles.vel[1] - st.particles.vel[0];
+    let e = v.dot(u) / 2.0;
+    let pair = s.pairs.get(0, 0);
+    let (want_e, want_t) = (pair.restitution(m_eff), pair.contact_time(m_eff));
+    assert!((e - want_e).abs() < 2e-3, "e {e} against {want_e}");
+    let tc = t_out.unwrap() - t_in.unwrap();
+    assert!(
+        (tc - want_t).abs() < 2e-6 + 0.01 * want_t,
+        "{tc} against {want_t}"
+    );
+    // Straight on: no sliding, no spin, and the relative motion stays on the line.
+    for w in &st.particles.omega {
+        assert!(w.length() < 1e-9, "{w}");
+    }
+    assert!(v.cross(u).length() < 1e-12 * v.length(), "{v}");
+}
+
+/// A sphere hits a plane obliquely, steeply enough to slide throughout: the rigid-body
+/// limit gives its spin ω R = μ (1 + e) v_n / K and tangential speed v_t − μ(1 + e)v_n.
+#[test]
+fn oblique_impact_on_a_plane_spins_the_sphere_as_the_rigid_body_limit() {
+    let mu = 0.1;
+    let s = setup(hooke(1e6, 0.0, mu), vec![floor()], DVec3::ZERO, [false; 3]);
+    let r = 0.005;
+    let (vt, vn) = (2.0, 1.0);
+    let mut p = Particles::default();
+    // Moving along +x and +y at once, down onto the floor.
+    let dir = DVec3::new(0.6, 0.8, 0.0);
+    p.push(
+        DVec3::new(0.05, 0.05, r + 1e-4),
+        r,
+        RHO,
+        0.4,
+        0,
+        vt * dir - vn * DVec3::Z,
+        DVec3::ZERO,
+    );
+    let mut st = State::new(&s, p);
+    for _ in 0..20_000 {
+        step(&s, &mut st, 2e-7);
+    }
+    let v = st.particles.vel[0];
+    let w = st.particles.omega[0];
+    assert!(v.z > 0.0, "it bounced: {v}");
+    let e = v.z / vn;
+    assert!((e - 1.0).abs() < 1e-6, "undamped: e = {e}");
+    let impulse = mu * (1.0 + e) * vn;
+    // Rolling without slipping on +x needs ω_y = +v/R: the friction spins it that way.
+    let axis = DVec3::Z.cross(dir);
+    let spin = w.dot(axis) * r;
+    let want_spin = impulse / 0.4;
+    assert!(
+        (spin - want_spin).abs() < 0.01 * want_spin,
+        "ωR {spin} against {want_spin}"
+    );
+    assert!(
+        (w - w.dot(axis) * axis).length() < 1e-9 * w.length(),
+        "spin axis {w}"
+    );
+    let v_t = v.dot(dir);
+    let want_vt = vt - impulse;
+    assert!(
+        (v_t - want_vt).abs() < 0.01 * want_vt,
+        "v_t {v_t} against {want_vt}"
+    );
+    assert!(
+        (v - v.dot(dir) * dir - v.z * DVec3::Z).length() < 1e-9,
+        "{v}"
+    );
+}
+
+fn cloud(n_side: usize, r: f64, jitter: u64) -> Particles {
+    let mut p = Particles::default();
+    let mut seed = jitter;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let gap = 2.05 * r;
+    for k in 0..n_side {
+        for j in 0..n_side {
+            for i in 0..n_side {
+                let x = DVec3::new(
+                    0.01 + i as f64 * gap,
+                    0.01 + j as f64 * gap,
+                    r * 1.1 + k as f64 * gap,
+                );
+                let v = DVec3::new(next(), next(), next());
+                let w = 10.0 * DVec3::new(next(), next(), next());
+                let rr = r * (1.0 + 0.1 * next());
+                p.push(x, rr, RHO, 0.4, 0, v, w);
+            }
+        }
+    }
+    p
+}
+
+#[test]
+fn a_free_cloud_keeps_its_momenta() {
+    let s = setup(hooke(1e5, 20.0, 0.5), vec![], DVec3::ZERO, [false; 3]);
+    let mut st = State::new(&s, cloud(5, 0.002, 7));
+    let moments = |st: &State| {
+        let p = &st.particles;
+        let (mut lin, mut ang) = (DVec3::ZERO, DVec3::ZERO);
+        for i in 0..p.len() {
+            let m = p.mass(i);
+            lin += m * p.vel[i];
+            ang += m * p.pos[i].cross(p.vel[i]) + p.omega[i] / p.inv_inertia[i];
+        }
+        (lin, ang)
+    };
+    let (l0, a0) = moments(&st);
+    for _ in 0..3000 {
+        step(&s, &mut st, 1e-5);
+    }
+    let (l1, a1) = moments(&st);
+    assert!(measure(&s, &st).pair_contacts > 0 || st.contacts.builds > 1);
+    assert!((l1 - l0).length() < 1e-12, "{l0} → {l1}");
+    assert!((a1 - a0).length() < 1e-12, "{a0} → {a1}");
+}
+
+/// Spheres poured into a box periodic in x and y come to rest on the floor, which then
+/// carries their weight.
+#[test]
+fn a_settled_column_rests_its_weight_on_the_floor() {
+    let g = DVec3::new(0.0, 0.0, -9.81);
+    let mut s = setup(
+        hooke(2e4, 200.0, 0.5),
+        vec![floor()],
+        g,
+        [true, true, false],
+    );
+    s.domain.hi = DVec3::new(0.03, 0.03, 0.1);
+    let mut st = State::new(&s, cloud(6, 0.002, 3));
+    for _ in 0..60_000 {
+        step(&s, &mut st, 2e-5);
+    }
+    let p = &st.particles;
+    let weight: f64 = (0..p.len()).map(|i| p.mass(i) * 9.81).sum();
+    let load = st.wall_loads[0].force;
+    let d = measure(&s, &st);
+    assert!(d.kinetic() < 1e-9 * weight, "still moving: {}", d.kinetic());
+    assert!(
+        (-load.z / weight - 1.0).abs() < 0.005,
+        "{load} against {weight}"
+    );
+}
+
+fn bed() -> (Setup, Particles) {
+    let g = DVec3::new(0.0, 0.0, -9.81);
+    let mut s = setup(
+        hooke(2e4, 200.0, 0.5),
+        vec![floor()],
+        g,
+        [true, true, false],
+    );
+    s.domain.hi = DVec3::new(0.05, 0.05, 0.1);
+    // More particles than one chunk, so the chunk borders and the reverse pass count.
+    (s, cloud(14, 0.0015, 11))
+}
+
+fn run(threads: usize, steps: usize) -> State {
+    let (s, p) = bed();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let mut st = State::new(&s, p);
+        for _ in 0..steps {
+            step(&s, &mut st, 2e-5);
+        }
+        st
+    })
+}
+
+#[test]
+fn bitwise_identical_for_1_2_3_threads() {
+    let one = state_hash(&run(1, 1500));
+    assert_eq!(one, state_hash(&run(2, 1500)));
+    assert_eq!(one, state_hash(&run(3, 1500)));
+}
+
+#[test]
+fn checkpoint_and_resume_is_bitwise_identical() {
+    let (s, p) = bed();
+    let mut st = State::new(&s, p);
+    for _ in 0..700 {
+        step(&s, &mut st, 2e-5);
+    }
+    let mut bytes = Vec::new();
+    grains_dem3d::checkpoint::write(&st, &mut bytes).unwrap();
+    let mut back = grains_dem3d::checkpoint::read(&mut bytes.as_slice(), 1 << 20).unwrap();
+    grains_dem3d::checkpoint::fits(&back, &s).unwrap();
+    for _ in 0..800 {
+        step(&s, &mut st, 2e-5);
+        step(&s, &mut back, 2e-5);
+    }
+    assert!(st.contacts.shear.iter().any(|x| x.length() > 0.0));
+    assert_eq!(state_hash(&st), state_hash(&back));
+}
+
+#[test]
+fn the_material_route_is_refused_in_3d() {
+    let domain = Domain {
+        lo: DVec3::ZERO,
+        hi: DVec3::ONE,
+        periodic: [false; 3],
+    };
+    let err = Setup::new(
+        domain,
+        vec![glass()],
+        ContactModel::default(),
+        vec![],
+        DVec3::ZERO,
+        1e-3,
+    )
+    .unwrap_err();
+    assert!(err.to_string().contains("contact.model"), "{err}");
+}
