@@ -284,7 +284,8 @@ impl ContactList {
                     let (lo, hi) = ids(i, e);
                     let at = h.start[lo + 1] as usize;
                     h.partner[at] = hi;
-                    h.shear[at] = self.shear[e];
+                    // Kept as seen from the lower id, whichever particle owned the row.
+                    h.shear[at] = orient(self.shear[e], particles.id[i] as usize != lo);
                     h.start[lo + 1] += 1;
                 }
             }
@@ -384,6 +385,17 @@ fn sort_by_cell(grid: &CellGrid, particles: &Particles) -> (Vec<u32>, Vec<u32>) 
     (perm, start)
 }
 
+/// A pair's tangential spring as seen from its other particle when `swap`
+/// ([`crate::math::swapped`]).
+#[inline]
+fn orient(xi: Tangent, swap: bool) -> Tangent {
+    if swap {
+        crate::math::swapped(xi)
+    } else {
+        xi
+    }
+}
+
 /// Tangential springs of the touching pairs before a rebuild, indexed by particle id
 /// (ids are 0..n): the pairs whose lower id is `a` are `start[a]..start[a + 1]`, so a
 /// lookup reads a row of two or three entries instead of searching every contact.
@@ -450,7 +462,7 @@ fn build_rows(
                 let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
                 if d.length_squared() < cut * cut {
                     nbr.push(j as u32);
-                    shear.push(old.get(p.id[i], p.id[j]));
+                    shear.push(orient(old.get(p.id[i], p.id[j]), p.id[i] > p.id[j]));
                 }
             }
         }

@@ -102,7 +102,7 @@ fn head_on_restitution_and_contact_time_of_the_linear_law() {
     for w in &st.particles.omega {
         assert!(w.length() < 1e-9, "{w}");
     }
-    assert!(v.cross(u).length() < 1e-12 * v.length(), "{v}");
+    assert!(v.cross(u).length() < 1e-9 * v.length(), "{v}");
 }
 
 /// A sphere hits a plane obliquely, steeply enough to slide throughout: the rigid-body
@@ -133,7 +133,8 @@ fn oblique_impact_on_a_plane_spins_the_sphere_as_the_rigid_body_limit() {
     let w = st.particles.omega[0];
     assert!(v.z > 0.0, "it bounced: {v}");
     let e = v.z / vn;
-    assert!((e - 1.0).abs() < 1e-6, "undamped: e = {e}");
+    // Undamped: e = 1 up to the integrator's O(Δt²).
+    assert!((e - 1.0).abs() < 1e-4, "undamped: e = {e}");
     let impulse = mu * (1.0 + e) * vn;
     // Rolling without slipping on +x needs ω_y = +v/R: the friction spins it that way.
     let axis = DVec3::Z.cross(dir);
@@ -187,28 +188,38 @@ fn cloud(n_side: usize, r: f64, jitter: u64) -> Particles {
     p
 }
 
+/// Linear momentum is kept exactly. Angular momentum is kept only without friction: the
+/// law puts the tangential force at r_i and r_j from the centres (LAMMPS
+/// `gran/hooke/history`), which add up to the distance plus the overlap, so a sliding
+/// contact exerts a couple δ n × F_t on the pair.
 #[test]
 fn a_free_cloud_keeps_its_momenta() {
-    let s = setup(hooke(1e5, 20.0, 0.5), vec![], DVec3::ZERO, [false; 3]);
-    let mut st = State::new(&s, cloud(5, 0.002, 7));
-    let moments = |st: &State| {
-        let p = &st.particles;
-        let (mut lin, mut ang) = (DVec3::ZERO, DVec3::ZERO);
-        for i in 0..p.len() {
-            let m = p.mass(i);
-            lin += m * p.vel[i];
-            ang += m * p.pos[i].cross(p.vel[i]) + p.omega[i] / p.inv_inertia[i];
+    for mu in [0.0, 0.5] {
+        let s = setup(hooke(1e5, 20.0, mu), vec![], DVec3::ZERO, [false; 3]);
+        let mut st = State::new(&s, cloud(5, 0.002, 7));
+        let moments = |st: &State| {
+            let p = &st.particles;
+            let (mut lin, mut ang) = (DVec3::ZERO, DVec3::ZERO);
+            for i in 0..p.len() {
+                let m = p.mass(i);
+                lin += m * p.vel[i];
+                ang += m * p.pos[i].cross(p.vel[i]) + p.omega[i] / p.inv_inertia[i];
+            }
+            (lin, ang)
+        };
+        let (l0, a0) = moments(&st);
+        let mut contacts = 0;
+        for _ in 0..3000 {
+            step(&s, &mut st, 1e-5);
+            contacts += measure(&s, &st).pair_contacts;
         }
-        (lin, ang)
-    };
-    let (l0, a0) = moments(&st);
-    for _ in 0..3000 {
-        step(&s, &mut st, 1e-5);
+        let (l1, a1) = moments(&st);
+        assert!(contacts > 100, "{contacts}");
+        assert!((l1 - l0).length() < 1e-12 * l0.length(), "{l0} → {l1}");
+        if mu == 0.0 {
+            assert!((a1 - a0).length() < 1e-12 * a0.length(), "{a0} → {a1}");
+        }
     }
-    let (l1, a1) = moments(&st);
-    assert!(measure(&s, &st).pair_contacts > 0 || st.contacts.builds > 1);
-    assert!((l1 - l0).length() < 1e-12, "{l0} → {l1}");
-    assert!((a1 - a0).length() < 1e-12, "{a0} → {a1}");
 }
 
 /// Spheres poured into a box periodic in x and y come to rest on the floor, which then
@@ -309,4 +320,57 @@ fn the_material_route_is_refused_in_3d() {
     )
     .unwrap_err();
     assert!(err.to_string().contains("contact.model"), "{err}");
+}
+
+/// A sheared contact whose row owner changes at a rebuild (the pair crosses a cell row,
+/// so the cell sort puts the other particle first) keeps its spring as seen from the new
+/// owner: the run ends as the same run shifted so that no owner changes.
+#[test]
+fn a_spring_survives_a_change_of_row_owner() {
+    let run = |lift: f64| {
+        let mut s = setup(hooke(1e5, 0.0, 0.8), vec![], DVec3::ZERO, [false; 3]);
+        // Cells 0.01001 wide; rebuilt every few steps.
+        s.skin = 1e-5;
+        let r = 0.005;
+        let angle = -20f64.to_radians();
+        let d = 0.0098 * DVec3::new(angle.cos(), angle.sin(), 0.0);
+        let left = DVec3::new(0.05, 0.05 - d.y + lift, 0.05);
+        let mut p = Particles::default();
+        let common = DVec3::new(0.0, 2.0, 0.0);
+        let slide = DVec3::new(0.05, 0.0, 0.2);
+        p.push(left, r, RHO, 0.4, 0, common + slide, DVec3::ZERO);
+        p.push(left + d, r, RHO, 0.4, 0, common - slide, DVec3::ZERO);
+        let mut st = State::new(&s, p);
+        let first_owner = st.particles.id[0];
+        let mut owners = std::collections::BTreeSet::new();
+        for _ in 0..400 {
+            step(&s, &mut st, 1e-6);
+            if st.contacts.len() > 0 && st.contacts.shear.iter().any(|x| x.length() > 0.0) {
+                owners.insert(st.particles.id[0]);
+            }
+        }
+        owners.insert(first_owner);
+        let by_id = |k: u32| st.particles.id.iter().position(|&i| i == k).unwrap();
+        let (a, b) = (by_id(0), by_id(1));
+        let p = &st.particles;
+        (owners.len(), [p.vel[a], p.vel[b], p.omega[a], p.omega[b]])
+    };
+    let (changed, a) = run(0.0);
+    let (kept, b) = run(0.004);
+    assert_eq!(
+        (changed, kept),
+        (2, 1),
+        "the owner should change in the first run only"
+    );
+    for (x, y) in a.iter().zip(&b) {
+        assert!(
+            (*x - *y).length() < 1e-9 * (1.0 + y.length()),
+            "{x} against {y}"
+        );
+    }
+    assert!(
+        a[2].length() > 1.0,
+        "the contact spun the spheres: {}",
+        a[2]
+    );
 }

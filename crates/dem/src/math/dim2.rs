@@ -179,3 +179,10 @@ macro_rules! with_image {
 pub const ANG: usize = 1;
 /// Components of a [`Tangent`] (1 in 2D).
 pub const TAN: usize = 1;
+
+/// The tangential spring of a pair as seen from its other particle: the relative
+/// displacement and t = (−n_y, n_x) both turn round, so its component along t is the same.
+#[inline(always)]
+pub fn swapped(xi: Tangent) -> Tangent {
+    xi
+}

@@ -194,3 +194,10 @@ macro_rules! with_image {
 pub const ANG: usize = 3;
 /// Components of a [`Tangent`].
 pub const TAN: usize = 3;
+
+/// The tangential spring of a pair as seen from its other particle: the relative
+/// displacement of one contact point against the other turns round.
+#[inline(always)]
+pub fn swapped(xi: Tangent) -> Tangent {
+    -xi
+}
