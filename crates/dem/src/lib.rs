@@ -23,6 +23,7 @@ pub mod contact;
 pub mod diagnostics;
 pub mod domain;
 pub mod forces;
+pub mod granular;
 pub mod integrate;
 pub mod ledger;
 pub mod material;

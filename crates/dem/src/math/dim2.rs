@@ -186,3 +186,36 @@ pub const TAN: usize = 1;
 pub fn swapped(xi: Tangent) -> Tangent {
     xi
 }
+
+/// A tangential or rolling spring carried to the current normal keeping its length (LAMMPS
+/// `pair granular`): in 2D its component along t already follows the normal.
+#[inline(always)]
+pub fn carry_keeping_length(xi: Tangent, _n: Vector, _stiffness: f64, _limit: f64) -> Tangent {
+    xi
+}
+
+/// (ω_i − ω_j) × n_ji per unit effective radius: the rolling velocity of LAMMPS's `sds`
+/// model (n_ji = −n from j to i), as its component along t.
+#[inline(always)]
+pub fn roll_velocity(w_rel: AngVector, _n: Vector) -> Tangent {
+    -w_rel
+}
+
+/// (ω_i − ω_j) · n_ji, the twisting rate: none in 2D.
+#[inline(always)]
+pub fn twist_rate(_w_rel: AngVector, _n: Vector) -> f64 {
+    0.0
+}
+
+/// The couple M n_ji of a twisting moment M on body i: none in 2D.
+#[inline(always)]
+pub fn twist_couple(_m: f64, _n: Vector) -> AngVector {
+    0.0
+}
+
+/// A rolling spring as seen from the pair's other particle: the rolling displacement is
+/// the same vector, and t turns round.
+#[inline(always)]
+pub fn roll_swapped(xi: Tangent) -> Tangent {
+    -xi
+}

@@ -50,19 +50,11 @@ pub fn tangential_velocity(v: Vector, n: Vector, spin: AngVector) -> Tangent {
     v - v.dot(n) * n + spin.cross(n)
 }
 
-/// The tangential spring carried to the current normal: projected onto the tangent
-/// plane and rescaled to keep its length (LAMMPS `pair granular`, Luding 2008 eq. 17),
-/// so a contact that rolls over keeps its stored force.
+/// The tangential spring carried to the current normal: its normal part removed, as
+/// LAMMPS `gran/hooke/history` does (a projection, without restoring the length).
 #[inline(always)]
 pub fn carry(xi: Tangent, n: Vector) -> Tangent {
-    let before = xi.length_squared();
-    let p = xi - xi.dot(n) * n;
-    let after = p.length_squared();
-    if after > 0.0 {
-        p * (before / after).sqrt()
-    } else {
-        p
-    }
+    xi - xi.dot(n) * n
 }
 
 /// The tangential force as a vector (it already is one).
@@ -200,4 +192,46 @@ pub const TAN: usize = 3;
 #[inline(always)]
 pub fn swapped(xi: Tangent) -> Tangent {
     -xi
+}
+
+/// A tangential or rolling spring carried to the current normal keeping its length, as
+/// LAMMPS `pair granular` does: projected onto the tangent plane and rescaled, unless its
+/// normal part is negligible (|ξ·n| k ≤ 10⁻¹⁰ `limit`, with `limit` the force cap).
+#[inline(always)]
+pub fn carry_keeping_length(xi: Tangent, n: Vector, stiffness: f64, limit: f64) -> Tangent {
+    let along = xi.dot(n);
+    if along.abs() * stiffness > 1e-10 * limit {
+        let before = xi.length();
+        let p = xi - along * n;
+        let after = p.length();
+        p * if after > 0.0 { before / after } else { 0.0 }
+    } else {
+        xi
+    }
+}
+
+/// (ω_i − ω_j) × n_ji per unit effective radius: the rolling velocity of LAMMPS's `sds`
+/// model (n_ji = −n, from j to i).
+#[inline(always)]
+pub fn roll_velocity(w_rel: AngVector, n: Vector) -> Tangent {
+    n.cross(w_rel)
+}
+
+/// (ω_i − ω_j) · n_ji, the twisting rate.
+#[inline(always)]
+pub fn twist_rate(w_rel: AngVector, n: Vector) -> f64 {
+    -w_rel.dot(n)
+}
+
+/// The couple M n_ji of a twisting moment M on body i.
+#[inline(always)]
+pub fn twist_couple(m: f64, n: Vector) -> AngVector {
+    -m * n
+}
+
+/// A rolling spring as seen from the pair's other particle: the rolling displacement is
+/// the same vector.
+#[inline(always)]
+pub fn roll_swapped(xi: Tangent) -> Tangent {
+    xi
 }
