@@ -14,3 +14,24 @@ fn hertz_tsuji_mindlin_rolling_in_2d() {
 fn hooke_viscoelastic_linear_history_rolling_in_2d() {
     check("f2_2d_hooke_visco_linhist");
 }
+
+mod hooke {
+    use grains_dem as dem;
+
+    include!("common/lammps_hooke.rs");
+
+    /// No 2D deck has a wall.
+    fn floor() -> dem::WallShape {
+        unreachable!("no 2D deck has a wall")
+    }
+
+    /// The 2D spring is a component along t = (−n_y, n_x), so it keeps its length as
+    /// the normal turns (as `pair granular` does); `gran/hooke/history` projects its
+    /// vector onto the new tangent plane, shortening it by cos Δθ each step. On this deck
+    /// that is 5.0e-7 of a field; a Python copy of `gran/hooke/history` with that one
+    /// change (the length kept) is 5.4e-7 from LAMMPS (`tests/lammps/hooke/README.md`).
+    #[test]
+    fn two_disks() {
+        check("h4_2d_disks", 1e-6);
+    }
+}

@@ -34,3 +34,36 @@ fn three_spheres_two_materials() {
 fn limit_damping() {
     check("g_hm_tsuji_mindlin_sds_marshall_limitdamping");
 }
+
+mod hooke {
+    use grains_dem3d as dem;
+
+    include!("../../dem/tests/common/lammps_hooke.rs");
+
+    fn floor() -> dem::WallShape {
+        dem::WallShape::Plane {
+            point: [0.0; 3],
+            normal: [0.0, 0.0, 1.0],
+        }
+    }
+
+    #[test]
+    fn two_spheres_stick_and_slip() {
+        check("h1_two_spheres", 1e-10);
+    }
+
+    #[test]
+    fn two_spheres_sliding() {
+        check("h1s_two_spheres_slide", 1e-10);
+    }
+
+    #[test]
+    fn three_spheres_two_contacts_at_once() {
+        check("h2_three_triangle", 1e-10);
+    }
+
+    #[test]
+    fn a_sphere_on_a_wall() {
+        check("h3_wall", 1e-10);
+    }
+}
