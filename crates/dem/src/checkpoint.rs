@@ -65,7 +65,10 @@ pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
             v
         })
         .collect();
-    put_f64(w, &loads)
+    put_f64(w, &loads)?;
+    // The granular law's histories (empty under the linear law).
+    put_f64(w, c.history.as_flattened())?;
+    put_f64(w, c.wall_history.as_flattened())
 }
 
 /// Whether a state read back fits the set-up it is to run with: its materials and walls.
@@ -243,6 +246,30 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
     if loads.len() % stride != 0 {
         return Err(SnapshotError::Invalid("wall loads".into()));
     }
+    let width = crate::granular::WIDTH;
+    let history = get_f64(r, width * m)?;
+    let wall_history = get_f64(r, width * n * n_walls)?;
+    for (what, got, want) in [
+        ("granular histories", history.len(), width * m),
+        (
+            "granular wall histories",
+            wall_history.len(),
+            width * n * n_walls,
+        ),
+    ] {
+        if got != 0 && got != want {
+            return Err(SnapshotError::Invalid(format!(
+                "{what}: {got} values, expected 0 or {want}"
+            )));
+        }
+    }
+    let rows = |f: Vec<f64>| -> Vec<[f64; crate::granular::WIDTH]> {
+        f.chunks_exact(width)
+            .map(|h| h.try_into().expect("a whole history"))
+            .collect()
+    };
+    c.history = rows(history);
+    c.wall_history = rows(wall_history);
     let wall_loads = loads
         .chunks_exact(stride)
         .map(|l| WallLoad {

@@ -162,22 +162,31 @@ impl PairParams {
     }
 }
 
-/// Parameters for every ordered pair of materials, flattened `[a * n + b]`.
+/// Parameters for every ordered pair of materials, flattened `[a * n + b]`: the linear
+/// law's [`PairParams`] by default, or another law's (`crate::granular`).
 #[derive(Clone, Debug, Default)]
-pub struct PairTable {
+pub struct PairTable<P = PairParams> {
     n: usize,
-    table: Vec<PairParams>,
+    table: Vec<P>,
 }
 
 impl PairTable {
     /// Builds the table. The materials must already be validated for the chosen model
     /// (see [`crate::setup`]); missing values here are treated as zero.
     pub fn new(model: &ContactModel, materials: &[Material]) -> Self {
-        let n = materials.len();
+        PairTable::from_fn(materials.len(), |a, b| {
+            pair(model, &materials[a], &materials[b])
+        })
+    }
+}
+
+impl<P> PairTable<P> {
+    /// The table of `n` materials whose entry (a, b) is `f(a, b)`.
+    pub fn from_fn(n: usize, mut f: impl FnMut(usize, usize) -> P) -> Self {
         let mut table = Vec::with_capacity(n * n);
-        for a in materials {
-            for b in materials {
-                table.push(pair(model, a, b));
+        for a in 0..n {
+            for b in 0..n {
+                table.push(f(a, b));
             }
         }
         PairTable { n, table }
@@ -185,7 +194,7 @@ impl PairTable {
 
     /// Parameters of the pair (a, b).
     #[inline(always)]
-    pub fn get(&self, a: usize, b: usize) -> &PairParams {
+    pub fn get(&self, a: usize, b: usize) -> &P {
         &self.table[a * self.n + b]
     }
 
@@ -200,7 +209,7 @@ impl PairTable {
     }
 
     /// Every entry (for time-step bounds).
-    pub fn iter(&self) -> impl Iterator<Item = &PairParams> {
+    pub fn iter(&self) -> impl Iterator<Item = &P> {
         self.table.iter()
     }
 }

@@ -78,9 +78,19 @@ pub fn measure(setup: &Setup, s: &State) -> Diagnostics {
                     let dist = setup.domain.min_image(p.pos[j] - p.pos[i]).length();
                     let overlap = p.radius[i] + p.radius[j] - dist;
                     if overlap > 0.0 {
-                        let pp = setup.pairs.get(mi, p.material[j] as usize);
-                        d.elastic += 0.5 * pp.kn * overlap * overlap
-                            + 0.5 * pp.kt * list.shear[e].dot(list.shear[e]);
+                        let mj = p.material[j] as usize;
+                        d.elastic += match (&setup.granular, list.history.get(e)) {
+                            (Some(t), Some(h)) => {
+                                let (ri, rj) = (p.radius[i], p.radius[j]);
+                                let r_eff = ri * rj / (ri + rj);
+                                crate::granular::stored_energy(t.get(mi, mj), overlap, r_eff, h)
+                            }
+                            _ => {
+                                let pp = setup.pairs.get(mi, mj);
+                                0.5 * pp.kn * overlap * overlap
+                                    + 0.5 * pp.kt * list.shear[e].dot(list.shear[e])
+                            }
+                        };
                         d.pair_contacts += 1;
                         let rmin = p.radius[i].min(p.radius[j]);
                         d.max_overlap_ratio = d.max_overlap_ratio.max(overlap / rmin);
@@ -118,14 +128,24 @@ fn wall_terms(setup: &Setup, s: &State, i: usize, d: &mut Diagnostics) {
         };
         let overlap = p.radius[i] - t.distance;
         if overlap > 0.0 {
-            let pp = setup.wall_pair(w, p.material[i] as usize);
-            let xi = s
-                .contacts
-                .wall_shear
-                .get(i * nw + w)
-                .copied()
-                .unwrap_or(Tangent::default());
-            d.elastic += 0.5 * pp.kn * overlap * overlap + xi.quad(0.5 * pp.kt);
+            let mi = p.material[i] as usize;
+            let history = s.contacts.wall_history.get(i * nw + w);
+            d.elastic += match (&setup.granular, history) {
+                (Some(t), Some(h)) => {
+                    let wm = wall.material.map_or(mi, |m| m as usize);
+                    crate::granular::stored_energy(t.get(mi, wm), overlap, p.radius[i], h)
+                }
+                _ => {
+                    let pp = setup.wall_pair(w, mi);
+                    let xi = s
+                        .contacts
+                        .wall_shear
+                        .get(i * nw + w)
+                        .copied()
+                        .unwrap_or(Tangent::default());
+                    0.5 * pp.kn * overlap * overlap + xi.quad(0.5 * pp.kt)
+                }
+            };
             d.wall_contacts += 1;
             d.max_overlap_ratio = d.max_overlap_ratio.max(overlap / p.radius[i]);
         }
@@ -260,6 +280,26 @@ pub fn state_hash(s: &State) -> u64 {
         h.word(k);
         for a in 0..Tangent::N {
             h.f64(v.get(a));
+        }
+    }
+    // The granular law's histories, as seen from the lower id (none under the linear law).
+    let mut granular = Vec::new();
+    for (e, g) in list.history.iter().enumerate() {
+        if g.iter().any(|&x| x != 0.0) {
+            let (a, b) = (p.id[list.owner[e] as usize], p.id[list.nbr[e] as usize]);
+            let g = if a > b {
+                crate::granular::swapped(g)
+            } else {
+                *g
+            };
+            granular.push(((a.min(b) as u64) << 32 | a.max(b) as u64, g));
+        }
+    }
+    granular.sort_unstable_by_key(|&(k, _)| k);
+    for (k, g) in granular {
+        h.word(k);
+        for x in g {
+            h.f64(x);
         }
     }
     h.finish()

@@ -131,6 +131,11 @@ pub fn pair_contacts(
     dt: f64,
     ledger: Option<&mut EnergyLedger>,
 ) {
+    if let Some(table) = &setup.granular {
+        // The ledger's split is the linear law's; the granular law keeps none.
+        crate::granular_pass::pair_contacts(setup, table, p, list, dt);
+        return;
+    }
     match ledger {
         None => {
             dispatch::<Off>(setup, p, list, dt);

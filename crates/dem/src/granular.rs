@@ -330,6 +330,30 @@ pub fn respond(
     }
 }
 
+/// The elastic energy a contact stores at overlap δ with history `h`: the normal
+/// spring's (½ k_n δ², or (2/5)(4/3)E* √R δ^{5/2} for Hertz), and ½ k |ξ|² of the
+/// tangential, rolling and twisting springs at the present stiffnesses.
+pub fn stored_energy(p: &GranularParams, overlap: f64, r_eff: f64, h: &[f64; WIDTH]) -> f64 {
+    let a = (overlap * r_eff).sqrt();
+    let normal = match p.normal {
+        Normal::Hooke => 0.5 * p.kn * overlap * overlap,
+        Normal::HertzMaterial => 0.4 * p.kn * a * overlap * overlap,
+    };
+    let kt = match p.tangential {
+        Tangential::LinearHistory => p.kt,
+        Tangential::Mindlin | Tangential::MindlinRescale => p.kt * a,
+    };
+    let xi = Tangent::from_slice(&h[..TAN]);
+    let mut e = normal + xi.quad(0.5 * kt);
+    if let Some(r) = p.rolling {
+        e += Tangent::from_slice(&h[ROLL..ROLL + TAN]).quad(0.5 * r.kr);
+    }
+    if p.twisting {
+        e += 0.5 * (0.5 * kt * a * a) * h[TWIST] * h[TWIST];
+    }
+    e
+}
+
 fn write<T: Components>(h: &mut [f64], at: usize, v: T) {
     for k in 0..T::N {
         h[at + k] = v.get(k);

@@ -4,7 +4,7 @@
 use crate::domain::Image;
 use crate::forces::contact_force;
 use crate::math::{self, AngVector, Vector};
-use crate::neighbours::ContactList;
+use crate::neighbours::{ContactList, GranularHistory};
 use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::verlet::{Comoving, Sums};
@@ -212,6 +212,18 @@ pub fn walls_gather_kick(
             .map(|_| &mut [] as &mut [math::Tangent])
             .collect()
     };
+    let granular = setup.granular.as_ref();
+    if granular.is_some() {
+        list.wall_history
+            .resize(n * nw, [0.0; crate::granular::WIDTH]);
+    }
+    let wall_history: Vec<&mut [GranularHistory]> = if granular.is_some() && nw > 0 {
+        list.wall_history.chunks_mut(CHUNK * nw).collect()
+    } else {
+        (0..nchunks)
+            .map(|_| &mut [] as &mut [GranularHistory])
+            .collect()
+    };
     let (pos, radius, inv_mass, inv_inertia, material) =
         (&p.pos, &p.radius, &p.inv_mass, &p.inv_inertia, &p.material);
     let (fpair, ftan) = (&list.fpair, &list.ftan);
@@ -225,8 +237,9 @@ pub fn walls_gather_kick(
         .zip(p.force.par_chunks_mut(CHUNK))
         .zip(p.torque.par_chunks_mut(CHUNK))
         .zip(wall_shear)
+        .zip(wall_history)
         .enumerate()
-        .map(|(c, ((((vel, omega), force), torque), ws))| {
+        .map(|(c, (((((vel, omega), force), torque), ws), wh))| {
             let mut loads = vec![WallLoad::default(); nw];
             for k in 0..vel.len() {
                 let i = c * CHUNK + k;
@@ -248,24 +261,56 @@ pub fn walls_gather_kick(
                     };
                     if touch.distance >= r {
                         *shear = crate::math::Tangent::default();
+                        if let Some(h) = wh.get_mut(k * nw + w) {
+                            *h = [0.0; crate::granular::WIDTH];
+                        }
                         continue;
                     }
-                    let params = setup.wall_pair(w, material[i] as usize);
                     let m = 1.0 / inv_mass[i];
-                    let cf = contact_force(
-                        params,
-                        m,
-                        touch.normal,
-                        r - touch.distance,
-                        vel[k],
-                        r * omega[k],
-                        shear,
-                        dt_shear,
-                    );
-                    let fw = -cf.normal * touch.normal
-                        + math::tangent_vector(cf.tangential, touch.normal);
+                    let (fw, tw) = match granular {
+                        // A wall is a body of infinite mass and radius that does not turn.
+                        Some(table) => {
+                            let wm = setup.walls[w].material.map_or(material[i], |m| m);
+                            let law = table.get(material[i] as usize, wm as usize);
+                            let contact = crate::granular::Contact {
+                                n: touch.normal,
+                                overlap: r - touch.distance,
+                                r_eff: r,
+                                m_eff: m,
+                                v: vel[k],
+                                spin: r * omega[k],
+                                w_rel: omega[k],
+                            };
+                            let h = &mut wh[k * nw + w];
+                            let resp = crate::granular::respond(
+                                law,
+                                &contact,
+                                h,
+                                dt_shear,
+                                dt_shear > 0.0,
+                            );
+                            let arm = r - 0.5 * contact.overlap;
+                            (resp.force, arm * resp.moment + resp.couple)
+                        }
+                        None => {
+                            let params = setup.wall_pair(w, material[i] as usize);
+                            let cf = contact_force(
+                                params,
+                                m,
+                                touch.normal,
+                                r - touch.distance,
+                                vel[k],
+                                r * omega[k],
+                                shear,
+                                dt_shear,
+                            );
+                            let fw = -cf.normal * touch.normal
+                                + math::tangent_vector(cf.tangential, touch.normal);
+                            (fw, r * math::moment(cf.tangential, touch.normal))
+                        }
+                    };
                     f += fw;
-                    tq += r * math::moment(cf.tangential, touch.normal);
+                    tq += tw;
                     let at = pos[i] + touch.normal * touch.distance;
                     let arm = at - setup.walls[w].shape.reference();
                     loads[w].force -= fw;

@@ -24,6 +24,7 @@ pub mod diagnostics;
 pub mod domain;
 pub mod forces;
 pub mod granular;
+pub mod granular_pass;
 pub mod integrate;
 pub mod ledger;
 pub mod material;

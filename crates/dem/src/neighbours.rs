@@ -13,6 +13,9 @@ use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::verlet::{frame_centre, Comoving};
 use crate::CHUNK;
+
+/// One contact's history under the granular law.
+pub type GranularHistory = [f64; crate::granular::WIDTH];
 use rayon::prelude::*;
 
 /// Half neighbour list (each pair once, owned by the lower index) with per-entry
@@ -47,6 +50,11 @@ pub struct ContactList {
     pub wall_shear: Vec<Tangent>,
     /// Number of walls (stride of `wall_shear`).
     pub n_walls: usize,
+    /// With the granular law ([`crate::granular`]): each entry's contact history, in
+    /// place of `shear` (empty with the linear law).
+    pub history: Vec<GranularHistory>,
+    /// With the granular law: each particle–wall pair's history, `[i * n_walls + w]`.
+    pub wall_history: Vec<GranularHistory>,
     /// Positions at the last rebuild, for the skin criterion.
     pub pos_at_build: Vec<Vector>,
     /// The expanding frame the list is judged in since the last rebuild, where the
@@ -192,8 +200,13 @@ impl ContactList {
         let n = particles.len();
         let nw = setup.walls.len();
         let old = self.history_by_id(particles);
+        let granular = setup.granular.is_some();
+        let old_granular = granular.then(|| self.granular_by_id(particles));
         if self.wall_shear.len() != n * nw {
             self.wall_shear = vec![Tangent::default(); n * nw];
+        }
+        if granular && self.wall_history.len() != n * nw {
+            self.wall_history = vec![[0.0; crate::granular::WIDTH]; n * nw];
         }
         self.n_walls = nw;
 
@@ -210,6 +223,17 @@ impl ContactList {
                         .copied()
                 })
                 .collect();
+            if granular {
+                let old_wh = std::mem::take(&mut self.wall_history);
+                self.wall_history = perm
+                    .iter()
+                    .flat_map(|&p| {
+                        old_wh[p as usize * nw..(p as usize + 1) * nw]
+                            .iter()
+                            .copied()
+                    })
+                    .collect();
+            }
         }
 
         // Rows, built per fixed chunk and concatenated in order (deterministic).
@@ -238,7 +262,33 @@ impl ContactList {
         self.ftan.clear();
         self.ftan.resize(m, AngVector::default());
         self.build_reverse(n);
+        self.history = match old_granular {
+            Some(old) => self
+                .owner
+                .iter()
+                .zip(&self.nbr)
+                .map(|(&i, &j)| {
+                    let (a, b) = (particles.id[i as usize], particles.id[j as usize]);
+                    let h = old.get(&(a.min(b), a.max(b))).copied();
+                    let h = h.unwrap_or([0.0; crate::granular::WIDTH]);
+                    if a > b {
+                        crate::granular::swapped(&h)
+                    } else {
+                        h
+                    }
+                })
+                .collect(),
+            None => Vec::new(),
+        };
         self.find_walls(setup, particles);
+        if granular {
+            // A wall out of reach starts afresh, as its linear spring does.
+            for (i, mask) in self.wall_near.iter().enumerate() {
+                for w in (0..nw).filter(|w| mask >> w & 1 == 0) {
+                    self.wall_history[i * nw + w] = [0.0; crate::granular::WIDTH];
+                }
+            }
+        }
         self.pos_at_build.clone_from(&particles.pos);
         self.frame = frame_centre(setup).map(Comoving::at_build);
         self.normal_at_build = match &self.frame {
@@ -246,6 +296,31 @@ impl ContactList {
             None => Vec::new(),
         };
         self.builds += 1;
+    }
+
+    /// The granular law's history of each contact, by its pair of ids (lower first) and
+    /// as seen from the lower id.
+    fn granular_by_id(
+        &self,
+        particles: &Particles,
+    ) -> std::collections::HashMap<(u32, u32), GranularHistory> {
+        let mut out = std::collections::HashMap::new();
+        if self.history.len() != self.nbr.len() || self.owner.len() != self.nbr.len() {
+            return out;
+        }
+        for ((&i, &j), h) in self.owner.iter().zip(&self.nbr).zip(&self.history) {
+            if h.iter().all(|&x| x == 0.0) {
+                continue;
+            }
+            let (a, b) = (particles.id[i as usize], particles.id[j as usize]);
+            let h = if a > b {
+                crate::granular::swapped(h)
+            } else {
+                *h
+            };
+            out.insert((a.min(b), a.max(b)), h);
+        }
+        out
     }
 
     /// Touching entries as (pair key by stable id, ξ), sorted by key.

@@ -3,6 +3,7 @@
 
 use crate::contact::{ContactModel, PairTable};
 use crate::domain::Domain;
+use crate::granular::GranularParams;
 use crate::material::Material;
 use crate::math::Vector;
 use crate::walls::Wall;
@@ -30,6 +31,12 @@ pub struct Setup {
     /// is then judged in a frame that expands from it ([`crate::verlet`]); `None`: the
     /// classic rule.
     pub expanding_from: Option<Vector>,
+    /// The law of LAMMPS `pair granular` per material pair ([`crate::granular`]), which
+    /// then replaces the linear law of `pairs` for every pair and wall; `None`: the
+    /// linear law. Set through the library (not yet from a scenario). The stable time
+    /// step ([`crate::timestep`]), the energy ledger and each particle's contact stress
+    /// are still the linear law's; `diagnostics::measure` asks this law for its energy.
+    pub granular: Option<PairTable<GranularParams>>,
 }
 
 /// Walls are tracked per particle in a 64-bit mask of nearby walls.
@@ -159,6 +166,7 @@ impl Setup {
             gravity,
             skin,
             expanding_from: None,
+            granular: None,
         })
     }
 

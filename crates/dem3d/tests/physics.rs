@@ -374,3 +374,147 @@ fn a_spring_survives_a_change_of_row_owner() {
         a[2]
     );
 }
+
+/// Chung & Ooi (2011) test 1: two glass spheres (E 48 GPa, ν 0.20, ρ 2800 kg/m³, R 10 mm)
+/// meet head on at ±10 m/s under Hertz's law without damping. Hertz: with E* = E/(2(1 −
+/// ν²)), R* = R/2, m* = m/2 and v = 20 m/s, δ_max = (15 m* v² / (16 E* √R*))^{2/5},
+/// F_max = (4/3) E* √R* δ_max^{3/2}, t_c = 2.868 (m*² / (R* E*² v))^{1/5}.
+#[test]
+fn chung_ooi_test_1_hertz_impact_of_two_spheres() {
+    use grains_dem3d::granular::{Damping, GranularParams, Normal, Tangential};
+    use grains_dem3d::PairTable;
+    let (e, nu, rho, r, v) = (48e9, 0.20, 2800.0, 0.01, 10.0);
+    let law = GranularParams::lammps(
+        Normal::HertzMaterial,
+        e,
+        Damping::Velocity,
+        0.0,
+        nu,
+        Tangential::Mindlin,
+        None,
+        1.0,
+        0.35,
+    );
+    let mut s = setup(hooke(1.0, 0.0, 0.0), vec![], DVec3::ZERO, [false; 3]);
+    s.granular = Some(PairTable::from_fn(1, |_, _| law));
+    let mut p = Particles::default();
+    p.push(
+        DVec3::new(0.0389, 0.05, 0.05),
+        r,
+        rho,
+        0.4,
+        0,
+        DVec3::X * v,
+        DVec3::ZERO,
+    );
+    p.push(
+        DVec3::new(0.0611, 0.05, 0.05),
+        r,
+        rho,
+        0.4,
+        0,
+        -DVec3::X * v,
+        DVec3::ZERO,
+    );
+    let m_eff = 0.5 * p.mass(0);
+    let mut st = State::new(&s, p);
+    let (mut overlap, mut force, mut t_in, mut t_out) = (0.0f64, 0.0f64, None, None);
+    for _ in 0..200_000 {
+        step(&s, &mut st, 1e-9);
+        let d = st.particles.pos[0].distance(st.particles.pos[1]);
+        overlap = overlap.max(2.0 * r - d);
+        force = force.max(st.particles.force[0].length());
+        if d < 2.0 * r && t_in.is_none() {
+            t_in = Some(st.time);
+        }
+        if d >= 2.0 * r && t_in.is_some() && t_out.is_none() {
+            t_out = Some(st.time);
+            break;
+        }
+    }
+    let (e_star, r_star, vrel) = (e / (2.0 * (1.0 - nu * nu)), 0.5 * r, 2.0 * v);
+    let delta = (15.0 * m_eff * vrel * vrel / (16.0 * e_star * r_star.sqrt())).powf(0.4);
+    let f_max = 4.0 / 3.0 * e_star * r_star.sqrt() * delta.powf(1.5);
+    let t_c = 2.868 * (m_eff * m_eff / (r_star * e_star * e_star * vrel)).powf(0.2);
+    let tc = t_out.unwrap() - t_in.unwrap();
+    for (what, got, want) in [
+        ("max overlap", overlap, delta),
+        ("peak force", force, f_max),
+        ("contact time", tc, t_c),
+    ] {
+        assert!(
+            (got / want - 1.0).abs() < 0.01,
+            "{what}: {got:e} against {want:e}"
+        );
+    }
+    // Undamped: the spheres leave at the speed they came.
+    let out = st.particles.vel[1].x - st.particles.vel[0].x;
+    assert!((out / vrel - 1.0).abs() < 1e-3, "{out}");
+}
+
+/// The granular law on a bed: the same state on 1, 2 and 3 threads, and through a
+/// checkpoint.
+#[test]
+fn granular_bed_is_bitwise_on_threads_and_through_a_checkpoint() {
+    use grains_dem3d::granular::{Damping, GranularParams, Normal, Rolling, Tangential};
+    use grains_dem3d::PairTable;
+    let law = GranularParams {
+        rolling: Some(Rolling {
+            kr: 50.0,
+            gamma_r: 0.01,
+            mu_r: 0.1,
+        }),
+        twisting: true,
+        ..GranularParams::lammps(
+            Normal::HertzMaterial,
+            5e7,
+            Damping::Tsuji,
+            0.5,
+            0.3,
+            Tangential::Mindlin,
+            None,
+            1.0,
+            0.5,
+        )
+    };
+    let granular_bed = || {
+        let (mut s, p) = bed();
+        s.granular = Some(PairTable::from_fn(1, |_, _| law));
+        (s, p)
+    };
+    let run = |threads: usize, steps: usize| {
+        let (s, p) = granular_bed();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut st = State::new(&s, p);
+            for _ in 0..steps {
+                step(&s, &mut st, 1e-5);
+            }
+            st
+        })
+    };
+    let one = run(1, 1200);
+    assert!(one
+        .contacts
+        .history
+        .iter()
+        .any(|h| h.iter().any(|&x| x != 0.0)));
+    assert!(measure(&granular_bed().0, &one).elastic > 0.0);
+    let hash = state_hash(&one);
+    assert_eq!(hash, state_hash(&run(2, 1200)));
+    assert_eq!(hash, state_hash(&run(3, 1200)));
+    let (s, _) = granular_bed();
+    let mut st = run(1, 500);
+    let mut bytes = Vec::new();
+    grains_dem3d::checkpoint::write(&st, &mut bytes).unwrap();
+    let mut back = grains_dem3d::checkpoint::read(&mut bytes.as_slice(), 1 << 20).unwrap();
+    for _ in 0..700 {
+        step(&s, &mut st, 1e-5);
+        step(&s, &mut back, 1e-5);
+    }
+    assert_eq!(hash, state_hash(&st));
+    assert_eq!(hash, state_hash(&back));
+}
