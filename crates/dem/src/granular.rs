@@ -256,7 +256,7 @@ pub fn respond(
     ) {
         kt *= a;
         if p.tangential == Tangential::MindlinRescale && a < h[A_PREV] {
-            xi = xi * (a / h[A_PREV]);
+            xi *= a / h[A_PREV];
         }
     }
     if update {
@@ -270,7 +270,7 @@ pub fn respond(
     if fs > f_scrit {
         if xi.norm() != 0.0 {
             xi = -(ft * (f_scrit / fs) + vtr * eta_t) * (1.0 / kt);
-            ft = ft * (f_scrit / fs);
+            ft *= f_scrit / fs;
         } else {
             ft = Tangent::default();
         }
@@ -291,13 +291,13 @@ pub fn respond(
         if frm > f_rcrit {
             if xr.norm() != 0.0 {
                 xr = -(fr * (f_rcrit / frm) + vrl * r.gamma_r) * (1.0 / r.kr);
-                fr = fr * (f_rcrit / frm);
+                fr *= f_rcrit / frm;
             } else {
                 fr = Tangent::default();
             }
         }
         write(h, ROLL, xr);
-        couple = couple - math::moment(fr, n) * c.r_eff;
+        couple -= math::moment(fr, n) * c.r_eff;
     }
     if p.twisting {
         let rate = math::twist_rate(c.w_rel, n);
@@ -320,7 +320,7 @@ pub fn respond(
             h[TWIST] = 1.0 / k_tw * (m_crit * sign - eta_tw * rate);
             m = -m_crit * sign;
         }
-        couple = couple + math::twist_couple(m, n);
+        couple += math::twist_couple(m, n);
     }
     Response {
         force: -fn_total * n + math::tangent_vector(ft, n),

@@ -345,7 +345,7 @@ fn a_spring_survives_a_change_of_row_owner() {
         let mut owners = std::collections::BTreeSet::new();
         for _ in 0..400 {
             step(&s, &mut st, 1e-6);
-            if st.contacts.len() > 0 && st.contacts.shear.iter().any(|x| x.length() > 0.0) {
+            if !st.contacts.is_empty() && st.contacts.shear.iter().any(|x| x.length() > 0.0) {
                 owners.insert(st.particles.id[0]);
             }
         }
