@@ -254,6 +254,8 @@ fn dispersal_analysis_inline_and_from_the_frames() {
     );
     assert!(lossless > 0.0 && lossless < gurney, "{m}");
     assert_eq!(m["compaction"].as_array().unwrap().len(), 2);
+    let milne = m["milne_porous_gurney"]["velocity"].as_f64().unwrap();
+    assert!(milne > 0.0 && milne < gurney, "{m}");
     let l = &f["energy_ledger"];
     let work = l["work_on_ring"].as_f64().unwrap();
     for k in ["contact_damping", "contact_friction", "contact_stored"] {

@@ -139,6 +139,31 @@ fn a_packed_cell_with_binder_runs_and_reports_the_cell() {
     ] {
         assert!(plots.join(p).exists(), "{p} missing");
     }
+    // Every plotted curve against strain is also data: the boundary stresses, the
+    // ledger and the debonded length, one row per cell row.
+    let csv = |p: &str| {
+        let text = std::fs::read_to_string(plots.join(p)).unwrap();
+        let mut lines = text.lines();
+        let names: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+        let rows: Vec<Vec<f64>> = lines
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect();
+        (names, rows)
+    };
+    let (names, rows) = csv("shear_stress.csv");
+    assert_eq!(
+        names[..3],
+        ["shear strain γ", "left boundary", "right boundary"]
+    );
+    assert!(rows.len() > 2 && rows.iter().all(|r| r.len() == names.len()));
+    for p in [
+        "normal_stress.csv",
+        "energy_ledger.csv",
+        "debonded_length.csv",
+    ] {
+        let (_, r) = csv(p);
+        assert_eq!(r.len(), rows.len(), "{p}");
+    }
     assert!(s["checks"][0]["pass"] == true, "{s}");
 }
 

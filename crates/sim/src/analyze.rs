@@ -166,7 +166,7 @@ pub fn write_outputs(out: &Path, s: &Sample, a: &Analysis, stem: &str) -> anyhow
         log_y: false,
         points: false,
     }
-    .write_png(&plots.join("psi6_cdf.png"))?;
+    .write_png_and_csv(&plots.join("psi6_cdf.png"))?;
 
     let diam: Vec<f64> = s.radius[s.lining.min(s.radius.len())..]
         .iter()
@@ -189,7 +189,7 @@ pub fn write_outputs(out: &Path, s: &Sample, a: &Analysis, stem: &str) -> anyhow
         log_y: false,
         points: false,
     }
-    .write_png(&plots.join("size_pdf.png"))?;
+    .write_png_and_csv(&plots.join("size_pdf.png"))?;
     let (xd, pd) = sizes::cdf(&diam, 400);
     LinePlot {
         title: &format!("Diameter CDF ({title})"),
@@ -203,7 +203,7 @@ pub fn write_outputs(out: &Path, s: &Sample, a: &Analysis, stem: &str) -> anyhow
         log_y: false,
         points: false,
     }
-    .write_png(&plots.join("size_cdf.png"))?;
+    .write_png_and_csv(&plots.join("size_cdf.png"))?;
     grains_analysis::rose::rose_png(
         &plots.join("rose.png"),
         &format!(

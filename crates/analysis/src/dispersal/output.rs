@@ -331,7 +331,7 @@ pub fn plot_fronts(path: &Path, title: &str, h: &FrontHistory) -> Result<(), Plo
         log_y: false,
         points: false,
     }
-    .write_png(path)
+    .write_png_and_csv(path)
 }
 
 /// φ(r) and v_r(r) at several times (Figs. 8c–d, 10a): writes `{stem}_phi.png` and
@@ -376,7 +376,7 @@ pub fn plot_radial_profiles(
             log_y: false,
             points: false,
         }
-        .write_png(&path)?;
+        .write_png_and_csv(&path)?;
         out.push(path);
     }
     Ok(out)
@@ -423,7 +423,7 @@ pub fn plot_azimuthal(
             log_y: false,
             points: false,
         }
-        .write_png(&path)?;
+        .write_png_and_csv(&path)?;
         out.push(path);
     }
     // Spectra relative to each series' mean, modes 1.., log scale.
@@ -465,7 +465,7 @@ pub fn plot_azimuthal(
         log_y: true,
         points: true,
     }
-    .write_png(&path)?;
+    .write_png_and_csv(&path)?;
     out.push(path);
     Ok(out)
 }

@@ -13,6 +13,10 @@ use crate::atomic::write_atomic_via_path;
 /// scaled down in a report.
 const SIZE: (u32, u32) = (1200, 750);
 
+/// The plotting area inside [`SIZE`] in pixels, about: less the margins (20 each
+/// side), the caption (about 45), the x label area (70) and the y label area (110).
+const PLOT_AREA: (f64, f64) = (1050.0, 595.0);
+
 /// One named curve; `x` and `y` must have the same length.
 #[derive(Clone, Copy, Debug)]
 pub struct Series<'a> {
@@ -93,6 +97,58 @@ impl LinePlot<'_> {
             out.push(current);
         }
         out
+    }
+
+    /// The corner whose legend box would cover the fewest drawn points, upper right
+    /// first on a tie, so that the legend hides as little data as it can. The box is
+    /// sized from the labels (18 px text, about 10 px a character) against the
+    /// plotting area; lines are sampled between their points, so that a line crossing
+    /// a corner counts there.
+    fn legend_corner(
+        &self,
+        segments: &[Vec<Vec<(f64, f64)>>],
+        (x0, x1): (f64, f64),
+        (y0, y1): (f64, f64),
+    ) -> SeriesLabelPosition {
+        let names = self.series.iter().filter(|s| !s.name.is_empty());
+        let chars = names
+            .clone()
+            .map(|s| s.name.chars().count())
+            .max()
+            .unwrap_or(0);
+        let w = ((chars as f64 * 10.0 + 60.0) / PLOT_AREA.0).min(1.0);
+        let h = ((names.count() as f64 * 24.0 + 16.0) / PLOT_AREA.1).min(1.0);
+        let corners = [
+            (
+                SeriesLabelPosition::UpperRight,
+                (1.0 - w, 1.0),
+                (1.0 - h, 1.0),
+            ),
+            (SeriesLabelPosition::UpperLeft, (0.0, w), (1.0 - h, 1.0)),
+            (SeriesLabelPosition::LowerRight, (1.0 - w, 1.0), (0.0, h)),
+            (SeriesLabelPosition::LowerLeft, (0.0, w), (0.0, h)),
+        ];
+        let mut counts = [0usize; 4];
+        let mut count = |(x, y): (f64, f64)| {
+            let (u, v) = ((x - x0) / (x1 - x0), (y - y0) / (y1 - y0));
+            for (c, (_, (ua, ub), (va, vb))) in counts.iter_mut().zip(&corners) {
+                *c += usize::from(u >= *ua && u <= *ub && v >= *va && v <= *vb);
+            }
+        };
+        for seg in segments.iter().flatten() {
+            for pair in seg.windows(2) {
+                let ((xa, ya), (xb, yb)) = (pair[0], pair[1]);
+                for k in 0..8 {
+                    let f = k as f64 / 8.0;
+                    count((xa + f * (xb - xa), ya + f * (yb - ya)));
+                }
+            }
+            if let Some(&last) = seg.last() {
+                count(last);
+            }
+        }
+        let best = (0..4).min_by_key(|&k| counts[k]).unwrap_or(0);
+        corners[best].0.clone()
     }
 
     fn draw(
@@ -178,7 +234,7 @@ impl LinePlot<'_> {
         if any_label {
             chart
                 .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
+                .position(self.legend_corner(segments, (x0, x1), (y0, y1)))
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
                 .label_font((FONT, 18))
@@ -210,6 +266,38 @@ mod tests {
             log_y,
             points,
         }
+    }
+
+    /// Levels across the top and a curve rising from the lower left leave the lower
+    /// right free: the legend goes there, not over the levels.
+    #[test]
+    fn the_legend_takes_the_emptiest_corner() {
+        let x: Vec<f64> = (0..400).map(|i| i as f64 * 0.1).collect();
+        let rise: Vec<f64> = x.iter().map(|t| 600.0 * (t / 40.0).sqrt()).collect();
+        let (g, m) = (vec![880.0; x.len()], vec![770.0; x.len()]);
+        let s = |name, y| Series { name, x: &x, y };
+        let p = plot(
+            vec![s("band", &rise), s("Gurney", &g), s("Milne", &m)],
+            false,
+            false,
+        );
+        let segs: Vec<_> = p.series.iter().map(|s| p.segments(s)).collect();
+        let corner = p.legend_corner(&segs, (0.0, 40.0), (0.0, 900.0));
+        assert_eq!(corner, SeriesLabelPosition::LowerRight);
+        // Nothing drawn: upper right, as before.
+        let empty = plot(
+            vec![Series {
+                name: "a",
+                x: &[],
+                y: &[],
+            }],
+            false,
+            false,
+        );
+        assert_eq!(
+            empty.legend_corner(&[vec![]], (0.0, 1.0), (0.0, 1.0)),
+            SeriesLabelPosition::UpperRight
+        );
     }
 
     #[test]

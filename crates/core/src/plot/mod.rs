@@ -7,6 +7,7 @@
 
 mod bar;
 mod colormap;
+mod csv;
 mod disks;
 mod line;
 mod polar;

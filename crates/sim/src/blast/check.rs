@@ -10,6 +10,7 @@ use crate::check::{Derived, Line};
 use crate::estimate::{self, rate, Estimate};
 use crate::packings::Cached;
 use crate::source::Source;
+use grains_fem::shell::milne_porous_gurney;
 use std::f64::consts::PI;
 
 /// Bytes per particle: as in DEM, plus the coupling's candidate pairs and the ring
@@ -155,6 +156,9 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
             let (ri, ro) = r.radii;
             let area: f64 = r.particles.radius.iter().map(|v| PI * v * v).sum();
             let phi = area / (PI * (ro * ro - ri * ri));
+            let bulk = r.mass / (PI * (ro * ro - ri * ri));
+            let milne = milne_porous_gurney(&a.fem.explosive, fb, bulk, phi)
+                .map_or(f64::NAN, |m| m.velocity);
             d.lines.extend([
                 Line::new(
                     "particles",
@@ -175,6 +179,15 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
                     format!(
                         "{:.0} m/s (classic cylindrical Gurney at this F/B)",
                         gurney_velocity(&a.fem, fb)
+                    ),
+                ),
+                Line::new(
+                    "milne_porous_gurney",
+                    milne,
+                    format!(
+                        "{milne:.0} m/s (Milne's porous-shell Gurney, xue-2019 Eq. 9, as \
+                         reconstructed: the gas fills the ring's pores first, losing half its \
+                         work meanwhile)"
                     ),
                 ),
                 Line::new(

@@ -90,6 +90,6 @@ pub fn plot(dir: &Path, h: &History) -> anyhow::Result<()> {
         log_y: false,
         points: false,
     }
-    .write_png(&dir.join("ring_energy.png"))?;
+    .write_png_and_csv(&dir.join("ring_energy.png"))?;
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! The one-dimensional ring models set beside every ring run (`figures.models`):
-//! classic Gurney, the lossless JWL-expansion ceiling at the run's end time and the
-//! compaction (snowplough) estimate, all for the run's explosive and F/B
+//! classic Gurney, the lossless JWL-expansion ceiling at the run's end time, the
+//! compaction (snowplough) estimate and Milne's porous-shell Gurney velocity (as
+//! reconstructed), all for the run's explosive, F/B and packing fraction
 //! (`shared/reference/dispersal-models.md`, `grains_fem::shell`).
 
 use super::assemble::explosive;
@@ -40,10 +41,13 @@ pub fn figures(s: &Scenario, ring_mass: f64, t_end: f64) -> Option<Value> {
                 "classic_gurney": m.classic_gurney,
                 "lossless_ceiling": m.lossless,
                 "compaction": m.compaction,
+                "milne_porous_gurney": m.milne,
                 "note": "F/B over the explosive filling the charge radius (ρ0πR²); the \
                          lossless ceiling is the JWL isentrope through E0 driving a thin \
                          shell to the run's end time; compaction: the ring swept up by a \
-                         front compacting it to φ1, inelastically",
+                         front compacting it to φ1, inelastically; milne_porous_gurney: \
+                         xue-2019 Eq. 9 (Milne 2016) as reconstructed, classic Gurney less \
+                         half the gas's work while it fills the ring's pores",
             }),
             Err(e) => json!({ "error": e.to_string() }),
         },

@@ -27,19 +27,18 @@ fn plot(
         log_y: false,
         points,
     }
-    .write_png(&dir.join(file))?;
+    .write_png_and_csv(&dir.join(file))?;
     Ok(())
 }
 
-/// Writes every plot of the run into `dir`. `reference` is the paper's terminal band
-/// velocity and `gurney` the classic Gurney velocity, drawn as flat lines when given.
+/// Writes every plot of the run into `dir`. `levels` are velocities drawn as flat
+/// lines on the velocity plot (the paper's band velocity, the ring models), by legend.
 pub fn write_all(
     dir: &Path,
     h: &History,
     ring: bool,
     arrival: &[ArrivalBin],
-    reference: Option<f64>,
-    gurney: Option<f64>,
+    levels: &[(&str, f64)],
 ) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir)?;
     let col = |name: &str| h.column(name).unwrap_or_default();
@@ -93,12 +92,7 @@ pub fn write_all(
             ("compact band", col("band_velocity")),
             ("spall layer", col("spall_velocity")),
         ];
-        if let Some(r) = reference {
-            v.push(("paper, FEM-DEM", vec![r; n]));
-        }
-        if let Some(g) = gurney {
-            v.push(("classic Gurney", vec![g; n]));
-        }
+        v.extend(levels.iter().map(|&(name, l)| (name, vec![l; n])));
         plot(
             dir,
             "velocities.png",

@@ -255,19 +255,28 @@ pub fn run(
     }
     let mut outcome = outcome;
     outcome.report = merge(outcome.report, figures, checks, &outcome.status);
-    let reference = probes::band_reference(s);
-    let gurney = outcome
-        .report
-        .figures
-        .get("gurney_velocity")
-        .and_then(|v| v.as_f64());
+    let figure = |v: Option<&serde_json::Value>| v.and_then(|v| v.as_f64());
+    let fig = &outcome.report.figures;
+    let levels: Vec<(&str, f64)> = [
+        ("paper, FEM-DEM", probes::band_reference(s)),
+        ("classic Gurney", figure(fig.get("gurney_velocity"))),
+        (
+            "Milne porous Gurney (reconstructed)",
+            figure(
+                fig.get("models")
+                    .map(|m| &m["milne_porous_gurney"]["velocity"]),
+            ),
+        ),
+    ]
+    .into_iter()
+    .filter_map(|(name, v)| Some((name, v?)))
+    .collect();
     plots::write_all(
         &out.join("plots"),
         &history.history,
         sim.ring.is_some(),
         &arrival,
-        reference,
-        gurney,
+        &levels,
     )?;
     ledger::plot(&out.join("plots"), &history.history)?;
     let mut counts = serde_json::Map::new();

@@ -50,7 +50,7 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
         log_y: false,
         points: false,
     }
-    .write_png(&dir.join("energies.png"))?;
+    .write_png_and_csv(&dir.join("energies.png"))?;
 
     LinePlot {
         title: "Kinetic energy",
@@ -64,7 +64,7 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
         log_y: true,
         points: false,
     }
-    .write_png(&dir.join("kinetic_energy.png"))?;
+    .write_png_and_csv(&dir.join("kinetic_energy.png"))?;
 
     particle_map(&dir.join("particles_final.png"), setup, state)?;
 
@@ -81,7 +81,7 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
         log_y: false,
         points: false,
     }
-    .write_png(&dir.join("contacts.png"))?;
+    .write_png_and_csv(&dir.join("contacts.png"))?;
 
     for (c, axis) in [("fx", "x"), ("fy", "y")] {
         if setup.walls.is_empty() {
@@ -107,7 +107,7 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
             log_y: false,
             points: false,
         }
-        .write_png(&dir.join(format!("wall_forces_{axis}.png")))?;
+        .write_png_and_csv(&dir.join(format!("wall_forces_{axis}.png")))?;
     }
     Ok(())
 }

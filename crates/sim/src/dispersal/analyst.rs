@@ -453,6 +453,6 @@ fn plot_jets(path: &Path, name: &str, time: f64, j: &Jets) -> anyhow::Result<()>
         log_y: false,
         points: false,
     }
-    .write_png(path)?;
+    .write_png_and_csv(path)?;
     Ok(())
 }

@@ -328,6 +328,10 @@ pub fn main_figures(f: &Map<String, Value>) -> String {
             "lossless_ceiling",
             f["models"]["lossless_ceiling"]["velocity"].clone(),
         ),
+        (
+            "milne_porous_gurney",
+            f["models"]["milne_porous_gurney"]["velocity"].clone(),
+        ),
     ];
     let mut s = String::new();
     for (k, v) in lines {

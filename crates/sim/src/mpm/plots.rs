@@ -44,7 +44,7 @@ fn line(
         log_y: false,
         points: false,
     }
-    .write_png(&dir.join(file))?;
+    .write_png_and_csv(&dir.join(file))?;
     Ok(())
 }
 
@@ -152,7 +152,8 @@ pub struct Curves {
     pub log_y: bool,
 }
 
-/// Writes each of `curves` into `dir`.
+/// Writes each of `curves` into `dir`: the plot, and its series as a CSV of the same
+/// name (`shear_stress.png` and `shear_stress.csv`), so that they can be re-plotted.
 pub fn write_curves(dir: &Path, curves: &[Curves]) -> anyhow::Result<()> {
     for c in curves {
         LinePlot {
@@ -167,7 +168,7 @@ pub fn write_curves(dir: &Path, curves: &[Curves]) -> anyhow::Result<()> {
             log_y: c.log_y,
             points: false,
         }
-        .write_png(&dir.join(&c.file))?;
+        .write_png_and_csv(&dir.join(&c.file))?;
     }
     Ok(())
 }
