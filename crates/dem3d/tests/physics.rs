@@ -518,3 +518,123 @@ fn granular_bed_is_bitwise_on_threads_and_through_a_checkpoint() {
     assert_eq!(hash, state_hash(&st));
     assert_eq!(hash, state_hash(&back));
 }
+
+/// The alumina sphere of Chung & Ooi (2011) (E 380 GPa, ν 0.23, ρ 4000 kg/m³, R 2.5 mm,
+/// μ 0.092) moving at `v` just above a plane 1000 times stiffer (as YADE's scripts of
+/// these tests make the rigid wall), under Hertz–Mindlin; undamped unless a restitution
+/// `e` is given (Tsuji's damping). Returns the set-up, the sphere and the pair's law.
+fn alumina(e: Option<f64>, v: DVec3) -> (Setup, Particles, grains_dem3d::granular::GranularParams) {
+    use grains_dem3d::granular::{Damping, GranularParams, Normal, Tangential};
+    use grains_dem3d::PairTable;
+    let (youngs, nu, rho, r, mu) = (380e9, 0.23, 4000.0, 0.0025, 0.092);
+    let (damping, damp) = e.map_or((Damping::Velocity, 0.0), |e| (Damping::Tsuji, e));
+    let like = |y: f64| {
+        GranularParams::lammps(
+            Normal::HertzMaterial,
+            y,
+            damping,
+            damp,
+            nu,
+            Tangential::Mindlin,
+            None,
+            1.0,
+            mu,
+        )
+    };
+    let (sphere, wall) = (like(youngs), like(1000.0 * youngs));
+    let pair = GranularParams::mixed(&sphere, &wall, [youngs, 1000.0 * youngs], [nu, nu]);
+    let mut s = setup(hooke(1.0, 0.0, 0.0), vec![floor()], DVec3::ZERO, [false; 3]);
+    s.walls[0].material = Some(1);
+    s.materials.push(glass());
+    s.pairs = PairTable::new(&s.model, &s.materials);
+    s.granular = Some(PairTable::from_fn(2, |a, b| match (a, b) {
+        (0, 0) => sphere,
+        (1, 1) => wall,
+        _ => pair,
+    }));
+    let mut p = Particles::default();
+    p.push(
+        DVec3::new(0.05, 0.05, r + 1e-6),
+        r,
+        rho,
+        0.4,
+        0,
+        v,
+        DVec3::ZERO,
+    );
+    (s, p, pair)
+}
+
+/// Runs the sphere until it leaves the plane: its state then, and the largest overlap,
+/// the peak force and the contact time.
+fn bounce(s: &Setup, p: Particles, dt: f64) -> (State, f64, f64, f64) {
+    let r = p.radius[0];
+    let mut st = State::new(s, p);
+    let (mut overlap, mut force, mut t_in) = (0.0f64, 0.0f64, None);
+    for _ in 0..2_000_000 {
+        step(s, &mut st, dt);
+        let gap = st.particles.pos[0].z - r;
+        overlap = overlap.max(-gap);
+        force = force.max(st.particles.force[0].length());
+        if gap < 0.0 && t_in.is_none() {
+            t_in = Some(st.time);
+        }
+        if let (true, Some(t0)) = (gap >= 0.0, t_in) {
+            let t = st.time - t0;
+            return (st, overlap, force, t);
+        }
+    }
+    panic!("the sphere did not leave the plane");
+}
+
+/// Chung & Ooi test 2: the alumina sphere hits the plane head on at 0.2 m/s; Hertz with
+/// R* = R and m* = m gives its largest overlap, peak force and contact time (the
+/// formulas of test 1, E* the pair's).
+#[test]
+fn chung_ooi_test_2_hertz_impact_on_a_plane() {
+    let v = 0.2;
+    let (s, p, pair) = alumina(None, -v * DVec3::Z);
+    let (r, m) = (p.radius[0], p.mass(0));
+    let (_, got_delta, got_f, got_t) = bounce(&s, p, 1e-9);
+    let e_star = 0.75 * pair.kn;
+    let delta = (15.0 * m * v * v / (16.0 * e_star * r.sqrt())).powf(0.4);
+    let f_max = 4.0 / 3.0 * e_star * r.sqrt() * delta.powf(1.5);
+    let t_c = 2.868 * (m * m / (r * e_star * e_star * v)).powf(0.2);
+    for (what, got, want) in [
+        ("max overlap", got_delta, delta),
+        ("peak force", got_f, f_max),
+        ("contact time", got_t, t_c),
+    ] {
+        assert!(
+            (got / want - 1.0).abs() < 0.01,
+            "{what}: {got:e} against {want:e}"
+        );
+    }
+}
+
+/// Chung & Ooi test 4: the alumina sphere hits the plane at 3.9 m/s, 60° from the
+/// normal, steeper than the sliding angle (tan θ > (1 + 1/K) μ (1 + e), 32.8° here): the
+/// rigid-body limit gives its spin ω R = μ (1 + e) v_n / K and tangential speed
+/// v_t − μ (1 + e) v_n, with K = 2/5 and e = 1 (undamped).
+#[test]
+fn chung_ooi_test_4_oblique_impact_above_the_sliding_angle() {
+    let (speed, theta) = (3.9, 60f64.to_radians());
+    let (vt, vn) = (speed * theta.sin(), speed * theta.cos());
+    let (s, p, _) = alumina(None, DVec3::new(vt, 0.0, -vn));
+    let r = p.radius[0];
+    let (st, _, _, _) = bounce(&s, p, 1e-9);
+    let (v, w) = (st.particles.vel[0], st.particles.omega[0]);
+    let e = v.z / vn;
+    let impulse = 0.092 * (1.0 + e) * vn;
+    let (spin, want_spin) = (w.y * r, impulse / 0.4);
+    assert!(
+        (spin / want_spin - 1.0).abs() < 0.01,
+        "ωR {spin} against {want_spin}"
+    );
+    assert!(
+        (v.x / (vt - impulse) - 1.0).abs() < 0.01,
+        "v_t {} against {}",
+        v.x,
+        vt - impulse
+    );
+}
