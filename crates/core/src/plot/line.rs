@@ -68,6 +68,63 @@ impl LinePlot<'_> {
         })
     }
 
+    /// Where the legend goes so that it covers no data: the corner whose box holds
+    /// the fewest points, or, when every corner holds some, the upper right with the
+    /// y axis raised to leave the legend a band above the data. Returns the corner and
+    /// the (possibly raised) top of the y axis.
+    fn legend_place(
+        &self,
+        segments: &[Vec<Vec<(f64, f64)>>],
+        (x0, x1): (f64, f64),
+        (y0, y1): (f64, f64),
+    ) -> (SeriesLabelPosition, f64) {
+        let named: Vec<&str> = self
+            .series
+            .iter()
+            .map(|s| s.name)
+            .filter(|n| !n.is_empty())
+            .collect();
+        if named.is_empty() || !(x1 > x0 && y1 > y0) {
+            return (SeriesLabelPosition::UpperRight, y1);
+        }
+        // The legend's size as a fraction of the plotting area (about 1050 × 590 px):
+        // 9 px a character and 50 px of key and padding across, 27 px a row down.
+        let longest = named.iter().map(|n| n.chars().count()).max().unwrap_or(0);
+        let fw = ((9 * longest + 70) as f64 / 1050.0).min(0.95);
+        let fh = ((27 * named.len() + 25) as f64 / 590.0).min(0.9);
+        let corners = [
+            (SeriesLabelPosition::UpperRight, true, true),
+            (SeriesLabelPosition::UpperLeft, false, true),
+            (SeriesLabelPosition::LowerRight, true, false),
+            (SeriesLabelPosition::LowerLeft, false, false),
+        ];
+        let inside = |right: bool, upper: bool, (x, y): (f64, f64)| {
+            let u = (x - x0) / (x1 - x0);
+            let v = (y - y0) / (y1 - y0);
+            (if right { u > 1.0 - fw } else { u < fw })
+                && (if upper { v > 1.0 - fh } else { v < fh })
+        };
+        let count = |right: bool, upper: bool| {
+            segments
+                .iter()
+                .flatten()
+                .flatten()
+                .filter(|p| inside(right, upper, **p))
+                .count()
+        };
+        let best = corners
+            .into_iter()
+            .map(|(pos, right, upper)| (count(right, upper), pos))
+            .min_by_key(|(n, _)| *n);
+        match best {
+            Some((0, pos)) => (pos, y1),
+            _ => (
+                SeriesLabelPosition::UpperRight,
+                y1 + (y1 - y0) * fh / (1.0 - fh),
+            ),
+        }
+    }
+
     /// Splits a series into runs of drawable points, in plot coordinates
     /// (`log10 y` when `log_y`, since the axis is drawn in exponent space).
     fn segments(&self, s: &Series) -> Vec<Vec<(f64, f64)>> {
@@ -111,6 +168,7 @@ impl LinePlot<'_> {
             Some((lo, hi)) if self.log_y && hi - lo < 1e-9 => (lo - 0.5, hi + 0.5),
             _ => axis_range(y_extent, 0.05),
         };
+        let (corner, y1) = self.legend_place(segments, (x0, x1), (y0, y1));
 
         let y_desc = if self.log_y {
             format!("{} (log scale)", self.y_label)
@@ -178,7 +236,7 @@ impl LinePlot<'_> {
         if any_label {
             chart
                 .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
+                .position(corner)
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
                 .label_font((FONT, 18))
@@ -204,8 +262,8 @@ mod tests {
     fn plot<'a>(series: Vec<Series<'a>>, log_y: bool, points: bool) -> LinePlot<'a> {
         LinePlot {
             title: "test",
-            x_label: "t [s]",
-            y_label: "E [J]",
+            x_label: "t (s)",
+            y_label: "E (J)",
             series,
             log_y,
             points,

@@ -64,10 +64,10 @@ pub fn analyze_run(
             .find(|t| **t < first.time - slack || **t > end.time + slack)
         {
             return Err(format!(
-                "--times: {} s is outside the run's frames, which span {} to {} s",
+                "--times: {} s is outside the run's frames, which span {:.4e} to {:.4e} s",
                 grains_core::input::shown(*bad),
-                grains_core::input::shown(first.time),
-                grains_core::input::shown(end.time)
+                first.time,
+                end.time
             ));
         }
     }
@@ -127,8 +127,7 @@ pub fn analyze_run(
     figures.insert(
         "event_times_resolution".into(),
         json!(format!(
-            "event times (reflection, arrest, meeting) are resolved only to the frame spacing, {} s: the run's inline analysis, which sees every sample, is finer",
-            grains_core::input::shown(spacing)
+            "event times (reflection, arrest, meeting) are resolved only to the frame spacing, {spacing:.3e} s: the run's inline analysis, which sees every sample, is finer"
         )),
     );
     figures.insert(
