@@ -1,6 +1,7 @@
 //! The rose diagram: contact-normal density as a polar bar chart (xue-2019 Fig. 3d–e).
 
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 
 /// Why the rose diagram could not be drawn.
@@ -36,7 +37,7 @@ fn draw(path: &Path, title: &str, density: &[f64]) -> Result<(), Box<dyn std::er
         .cloned()
         .filter(|v| v.is_finite())
         .fold(iso, f64::max)
-        * 1.08;
+        * 1.2;
     let mut chart = ChartBuilder::on(&root)
         .margin(30)
         .build_cartesian_2d(-peak..peak, -peak..peak)?;
@@ -81,6 +82,17 @@ fn draw(path: &Path, title: &str, density: &[f64]) -> Result<(), Box<dyn std::er
             RGBColor(180, 180, 180),
         ))?;
     }
+    // The angle of each spoke, in the ring left free beyond the longest bar.
+    let label = TextStyle::from((grains_core::plot::FONT, 20).into_font())
+        .pos(Pos::new(HPos::Center, VPos::Center));
+    chart.draw_series((0..12).map(|k| {
+        let a = k as f64 * TAU / 12.0;
+        Text::new(
+            format!("{}°", 30 * k),
+            (0.93 * peak * a.cos(), 0.93 * peak * a.sin()),
+            label.clone(),
+        )
+    }))?;
     chart.draw_series([Text::new(
         format!("dashed: isotropic 1/2π; outer edge {:.3} /rad", peak),
         (-0.98 * peak, -0.95 * peak),

@@ -14,11 +14,13 @@ use std::process::ExitCode;
 const EXIT_CODES: &str = "Exit codes:
   0    success (or paused at --stop-at-step with a checkpoint)
   1    bad input (one line names the key, the value and what is allowed; nothing is
-       written) or an output that could not be written
+       written), a mistyped command line, or an output directory that cannot be
+       written (refused before anything is computed)
   2    a validation check failed (see summary.json)
   3    the run went unstable (NaN, runaway overlap, a particle through the charge's
-       edge, CFL breach, a collapsed time step); the output written before that
-       point is kept and its checks fail
+       edge, CFL breach, a collapsed time step, a DEM particle leaving the domain or
+       moving more than its radius in a step); the output written before that point
+       is kept and its checks fail
   130  interrupted by Ctrl-C or SIGTERM (DEM and FEM–DEM runs write a checkpoint first)";
 
 #[derive(Parser)]
@@ -173,7 +175,11 @@ fn main() -> ExitCode {
         .with_env_filter(tracing_subscriber::EnvFilter::from_default_env())
         .with_writer(std::io::stderr)
         .init();
-    let result = match Cli::parse().command {
+    let cli = match Cli::try_parse_from(negative_times(std::env::args_os())) {
+        Ok(cli) => cli,
+        Err(e) => return argument_error(e),
+    };
+    let result = match cli.command {
         Command::Run {
             scenario,
             out,
@@ -250,6 +256,7 @@ fn cmd_run(
     let threads = set_threads(threads)?;
     let scn = grains_sim::scenario::parse(&src).map_err(input)?;
     let out = out.unwrap_or_else(|| driver::default_out(scn.name()));
+    driver::writable_out(&out).map_err(input)?;
     report(sim_run::run(&src, options(out, threads, stop_at_step)))
 }
 
@@ -309,6 +316,9 @@ fn report(result: Result<Finished, RunError>) -> Result<ExitCode, Failure> {
 
 fn cmd_check(path: &Path, json: bool, threads: Option<usize>) -> Result<ExitCode, Failure> {
     let src = Source::read(path).map_err(input)?;
+    if threads == Some(0) {
+        return Err(input("--threads = 0: must be at least 1"));
+    }
     let threads = threads.unwrap_or_else(rayon::current_num_threads);
     let d = check::check(&src, threads).map_err(input)?;
     if json {
@@ -333,6 +343,7 @@ fn cmd_pack(
     let (s, text, v) = grains_sim::pack::prepare(spec).map_err(input)?;
     let threads = set_threads(threads)?;
     let out = out.unwrap_or_else(|| driver::default_out(&s.name));
+    driver::writable_out(&out).map_err(input)?;
     eprintln!(
         "grains: pack {} — about {:.0} disks of d0 = {:.4e} m, {threads} threads → {}",
         s.name,
@@ -397,6 +408,7 @@ fn cmd_analyze(
     use grains_sim::dispersal::run_dir;
     if run_dir::is_run_dir(file) {
         let out = out.unwrap_or_else(|| file.join("analysis"));
+        driver::writable_out(&out).map_err(input)?;
         let figures = run_dir::analyze_run(file, &out, times).map_err(input)?;
         if json {
             let v = serde_json::Value::Object(figures);
@@ -422,6 +434,7 @@ fn cmd_analyze(
         .map(|s| s.to_string_lossy().to_string())
         .unwrap_or_else(|| "sample".into());
     let out = out.unwrap_or_else(|| driver::default_out(&format!("analyze_{stem}")));
+    driver::writable_out(&out).map_err(input)?;
     let figures = grains_sim::analyze::analyze(file, &out).map_err(input)?;
     if json {
         let v = serde_json::Value::Object(figures);
@@ -447,6 +460,9 @@ fn cmd_bench(what: BenchCommand) -> Result<ExitCode, Failure> {
             threads,
         } => {
             set_threads(threads)?;
+            if tile == 0 {
+                return Err(input("--tile = 0: must be at least 1"));
+            }
             let bed = match lammps_data {
                 Some(path) => bench::dem::Bed::LammpsData(path, tile),
                 None => bench::dem::Bed::Built(particles),
@@ -478,6 +494,61 @@ fn cmd_bench(what: BenchCommand) -> Result<ExitCode, Failure> {
     .map_err(input)?;
     print!("{}", r.text());
     Ok(ExitCode::SUCCESS)
+}
+
+/// `--times -1e-6` as `--times=-1e-6`: clap takes a value starting with '-' after a
+/// flag for another flag (here `-1`), so a negative time would be refused as an unknown
+/// argument rather than as a time outside the run.
+fn negative_times(args: impl Iterator<Item = std::ffi::OsString>) -> Vec<std::ffi::OsString> {
+    let mut out: Vec<std::ffi::OsString> = Vec::new();
+    for a in args {
+        let numbers = a.to_str().is_some_and(|s| {
+            s.starts_with('-') && s.split(',').all(|t| t.trim().parse::<f64>().is_ok())
+        });
+        if numbers && out.last().is_some_and(|l| l == "--times") {
+            let flag = out.pop().unwrap_or_default();
+            let mut joined = flag;
+            joined.push("=");
+            joined.push(&a);
+            out.push(joined);
+        } else {
+            out.push(a);
+        }
+    }
+    out
+}
+
+/// clap's refusal as one line and exit code 1 (bad input), as for every other bad
+/// input; `--help` and `--version` print in full and succeed.
+fn argument_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    match e.kind() {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            let _ = e.print();
+            ExitCode::SUCCESS
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            let given: Vec<String> = std::env::args().skip(1).collect();
+            let cmd = ["grains".to_string()]
+                .into_iter()
+                .chain(given)
+                .collect::<Vec<_>>()
+                .join(" ");
+            fail(
+                1,
+                &format!("`{cmd}` needs a subcommand (see `{cmd} --help`)"),
+            )
+        }
+        _ => {
+            let text = e.render().to_string();
+            let first = text
+                .lines()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("bad arguments");
+            let first = first.trim_start_matches("error: ");
+            fail(1, &format!("{first} (see `grains --help`)"))
+        }
+    }
 }
 
 /// Prints a one-line error and returns the exit code.

@@ -5,36 +5,7 @@
 mod common;
 use common::*;
 
-const BASE: &str = r#"
-name = "bad"
-gravity = [0.0, -9.81]
-
-[domain]
-lo = [0.0, 0.0]
-hi = [0.01, 0.01]
-
-[[material]]
-name = "quartz"
-density = 2560.0
-youngs = 72.0e9
-poisson = 0.27
-restitution = 0.5
-friction = 0.3
-
-[[particles]]
-source = "list"
-material = "quartz"
-disks = [{ at = [0.005, 0.0006], radius = 0.0005 }]
-
-[[wall]]
-name = "floor"
-shape = "segment"
-a = [0.0, 0.0]
-b = [0.01, 0.0]
-
-[run]
-duration = 1.0e-7
-"#;
+const BASE: &str = ONE_DISK;
 
 #[test]
 fn the_base_scenario_runs() {

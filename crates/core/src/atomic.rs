@@ -70,14 +70,23 @@ where
     F: FnOnce(&mut dyn Write) -> io::Result<()>,
 {
     write_atomic_via_path(path, |tmp| {
-        let mut w = BufWriter::new(File::create(tmp)?);
-        f(&mut w)?;
-        w.flush()?;
-        // into_inner cannot fail after a successful flush, but report it
-        // rather than assume.
-        w.into_inner().map_err(|e| e.into_error())?;
-        Ok(())
+        let write = || -> io::Result<()> {
+            let mut w = BufWriter::new(File::create(tmp)?);
+            f(&mut w)?;
+            w.flush()?;
+            // into_inner cannot fail after a successful flush, but report it
+            // rather than assume.
+            w.into_inner().map_err(|e| e.into_error())?;
+            Ok(())
+        };
+        write().map_err(|e| naming(path, e))
     })
+}
+
+/// The error with the path it concerns: an OS error alone ("Permission denied")
+/// does not say which file of a run failed.
+fn naming(path: &Path, e: io::Error) -> io::Error {
+    io::Error::new(e.kind(), format!("cannot write {}: {e}", path.display()))
 }
 
 /// Atomically replaces `path` with a file that `f` creates at the given
@@ -104,7 +113,7 @@ where
         armed: true,
     };
     f(&guard.path)?;
-    fs::rename(&guard.path, path)?;
+    fs::rename(&guard.path, path).map_err(|e| naming(path, e))?;
     guard.armed = false;
     Ok(())
 }
@@ -152,7 +161,10 @@ mod tests {
             Err(io::Error::other("boom"))
         })
         .unwrap_err();
-        assert_eq!(err.to_string(), "boom");
+        assert_eq!(
+            err.to_string(),
+            format!("cannot write {}: boom", p.display())
+        );
         assert_eq!(fs::read(&p).unwrap(), b"old");
         assert_eq!(entries(&dir), vec!["b.txt".to_string()]);
         fs::remove_dir_all(dir).unwrap();

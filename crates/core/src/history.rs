@@ -33,9 +33,12 @@ impl History {
     /// and line breaks, so the file needs no CSV quoting.
     pub fn create(path: &Path, columns: &[&str]) -> io::Result<Self> {
         check_columns(columns)?;
-        let mut writer = BufWriter::new(File::create(path)?);
-        writeln!(writer, "{}", columns.join(","))?;
-        writer.flush()?;
+        let named = |e: io::Error| {
+            io::Error::new(e.kind(), format!("cannot write {}: {e}", path.display()))
+        };
+        let mut writer = BufWriter::new(File::create(path).map_err(named)?);
+        writeln!(writer, "{}", columns.join(",")).map_err(named)?;
+        writer.flush().map_err(named)?;
         Ok(Self {
             columns: columns.iter().map(|c| c.to_string()).collect(),
             integer: vec![false; columns.len()],

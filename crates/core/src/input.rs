@@ -123,6 +123,37 @@ pub fn in_range(key: &str, v: f64, lo: f64, hi: f64) -> Result<(), InputError> {
     }
 }
 
+/// `Ok` when `name` can be one path component of an output (a run directory, a plot):
+/// what a scenario names must stay inside the directory the user chose, so separators,
+/// `.` and `..`, leading dots, control characters and the empty name are refused.
+pub fn file_name(key: &str, name: &str) -> Result<(), InputError> {
+    let bad = if name.trim().is_empty() {
+        Some("must not be empty")
+    } else if name.contains(['/', '\\']) {
+        Some("must not contain '/' or '\\'")
+    } else if name.starts_with('.') {
+        Some("must not start with '.'")
+    } else if name.chars().any(char::is_control) {
+        Some("must not contain control characters")
+    } else if name.contains(':') {
+        Some("must not contain ':'")
+    } else if name.len() > 200 {
+        Some("must be at most 200 bytes long")
+    } else {
+        None
+    };
+    match bad {
+        None => Ok(()),
+        Some(why) => Err(InputError::new(
+            key,
+            format!("{name:?}"),
+            format!(
+                "{why}: it becomes a file or directory name (only --out chooses where outputs go)"
+            ),
+        )),
+    }
+}
+
 /// `Ok` when the list `[[key]]` has at least one entry and no two share a name.
 pub fn named_list<'a>(
     key: &str,
@@ -185,8 +216,16 @@ pub fn toml_message(text: &str, origin: &str, e: &toml::de::Error) -> String {
         .map(|s| {
             let before = &text[..s.start.min(text.len())];
             let line = before.matches('\n').count() + 1;
-            let col = before.len() - before.rfind('\n').map_or(0, |k| k + 1) + 1;
-            format!(" line {line}, column {col}:")
+            let start = before.rfind('\n').map_or(0, |k| k + 1);
+            let col = before.len() - start + 1;
+            // The line itself names the key and the value the message is about.
+            let text_line = text[start..].lines().next().unwrap_or("").trim();
+            let shown: String = text_line.chars().take(80).collect();
+            if shown.is_empty() {
+                format!(" line {line}, column {col}:")
+            } else {
+                format!(" line {line}, column {col} ({shown}):")
+            }
         })
         .unwrap_or_default();
     let msg = e.message().replace('\n', " ");
@@ -228,7 +267,7 @@ mod tests {
             a: f64,
         }
         let e = parse_toml::<S>("a = 1.0\nb = 2\n", "s.toml").unwrap_err();
-        assert!(e.starts_with("s.toml: line 2, column 1:"), "{e}");
+        assert!(e.starts_with("s.toml: line 2, column 1 (b = 2):"), "{e}");
         assert!(e.contains("unknown field"), "{e}");
         assert!(!e.contains('\n'));
     }

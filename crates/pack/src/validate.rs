@@ -64,14 +64,7 @@ fn in_range(key: &str, v: f64, lo: f64, hi: f64, what: &str) -> Result<(), Input
 
 /// Validates a spec.
 pub fn validate(spec: &PackSpec) -> Result<Validated, InputError> {
-    if spec.name.trim().is_empty() || spec.name.contains(['/', '\\']) || spec.name.starts_with('.')
-    {
-        return Err(err(
-            "name",
-            format!("{:?}", spec.name),
-            "must be a non-empty file name (no '/', not starting with '.')",
-        ));
-    }
+    grains_core::input::file_name("name", &spec.name)?;
     let (d0, d_max) = sizes(&spec.sizes)?;
     let dist = Distribution::from_spec(&spec.sizes);
     let p = &spec.protocol;

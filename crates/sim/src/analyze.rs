@@ -179,8 +179,8 @@ pub fn write_outputs(out: &Path, s: &Sample, a: &Analysis, stem: &str) -> anyhow
     let (xc, pc) = sizes::pdf(&diam, 40);
     LinePlot {
         title: &format!("Diameter PDF ({title})"),
-        x_label: "diameter [m]",
-        y_label: "P(d) [1/m]",
+        x_label: "diameter (m)",
+        y_label: "P(d) (1/m)",
         series: vec![Series {
             name: "",
             x: &xc,
@@ -193,7 +193,7 @@ pub fn write_outputs(out: &Path, s: &Sample, a: &Analysis, stem: &str) -> anyhow
     let (xd, pd) = sizes::cdf(&diam, 400);
     LinePlot {
         title: &format!("Diameter CDF ({title})"),
-        x_label: "diameter [m]",
+        x_label: "diameter (m)",
         y_label: "P(diameter <= d)",
         series: vec![Series {
             name: "",

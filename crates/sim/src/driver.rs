@@ -502,3 +502,38 @@ pub fn restore_observers<S: Simulation>(
 pub fn default_out(name: &str) -> PathBuf {
     Path::new("runs").join(name)
 }
+
+/// Refuses an output directory that could not be written, before anything is computed:
+/// a file where the directory should be, or a nearest existing ancestor that is not a
+/// directory or cannot be written in. Leaves nothing behind.
+pub fn writable_out(out: &Path) -> Result<(), String> {
+    let shown = out.display();
+    let mut at = out;
+    while !at.exists() {
+        at = match at.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+    }
+    if !at.is_dir() {
+        return Err(format!(
+            "output directory {shown}: {} is a file, not a directory",
+            at.display()
+        ));
+    }
+    let probe = at.join(format!(".grains-write-probe.{}", std::process::id()));
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+    {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) => Err(format!(
+            "output directory {shown}: cannot write in {}: {e}",
+            at.display()
+        )),
+    }
+}

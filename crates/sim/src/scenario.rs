@@ -3,7 +3,7 @@
 
 use crate::source::Source;
 use crate::{blast, dem, mpm};
-use grains_core::input::{parse_toml, toml_message};
+use grains_core::input::{file_name, parse_toml, toml_message, InputError};
 
 /// A parsed scenario of any engine.
 #[derive(Clone, Debug)]
@@ -68,6 +68,44 @@ pub fn parse(src: &Source) -> Result<Scenario, String> {
         ));
     }
     let table: toml::Table = toml::from_str(text).map_err(|e| toml_message(text, origin, &e))?;
+    let scenario = by_engine(&table, text, origin)?;
+    output_names(&scenario).map_err(|e| format!("{origin}: {e}"))?;
+    step_given_once(&table).map_err(|e| format!("{origin}: {e}"))?;
+    Ok(scenario)
+}
+
+/// `run.dt` is used as given and `run.safety` only sets the default step: both given
+/// would leave one silently ignored.
+fn step_given_once(table: &toml::Table) -> Result<(), InputError> {
+    let run = table.get("run").and_then(toml::Value::as_table);
+    if let Some(run) = run {
+        if let (Some(dt), Some(safety)) = (run.get("dt"), run.get("safety")) {
+            return Err(InputError::new(
+                "run.safety",
+                safety.to_string(),
+                format!("cannot be given with run.dt = {dt}: dt is used as given and safety only sets the default step; keep one"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Every name a scenario gives that becomes part of an output path: the run's (its
+/// default directory), and an MPM run's bodies and checks (plot files).
+fn output_names(s: &Scenario) -> Result<(), InputError> {
+    file_name("name", s.name())?;
+    if let Scenario::Mpm(m) = s {
+        for (i, b) in m.bodies.iter().enumerate() {
+            file_name(&format!("body[{i}].name"), &b.name)?;
+        }
+        for (i, c) in m.checks.iter().enumerate() {
+            file_name(&format!("check[{i}].name"), c.name())?;
+        }
+    }
+    Ok(())
+}
+
+fn by_engine(table: &toml::Table, text: &str, origin: &str) -> Result<Scenario, String> {
     match table.get("engine") {
         None => Ok(Scenario::Dem(parse_toml(text, origin)?)),
         Some(toml::Value::String(s)) if s == "dem" => Ok(Scenario::Dem(parse_toml(text, origin)?)),

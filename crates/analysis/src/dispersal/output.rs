@@ -110,7 +110,7 @@ pub fn write_maps(
         MapSpec {
             suffix: "phi",
             name: "packing fraction",
-            label: "packing fraction φ [-]",
+            label: "packing fraction φ (−)",
             scale: ColourScale::Sequential,
             range: Some((0.0, 0.95)),
             values: fields
@@ -123,7 +123,7 @@ pub fn write_maps(
         MapSpec {
             suffix: "speed",
             name: "velocity magnitude",
-            label: "speed |v| [m/s]",
+            label: "speed |v| (m/s)",
             scale: ColourScale::Sequential,
             range: None,
             values: fields.velocity.iter().map(|v| v.length()).collect(),
@@ -131,7 +131,7 @@ pub fn write_maps(
         MapSpec {
             suffix: "v_r",
             name: "radial velocity",
-            label: "radial velocity v_r [m/s]",
+            label: "radial velocity v_r (m/s)",
             scale: ColourScale::Sequential,
             range: None,
             values: fields.v_r.clone(),
@@ -139,7 +139,7 @@ pub fn write_maps(
         MapSpec {
             suffix: "dilation",
             name: "dilation rate D",
-            label: "dilation rate D [1/s]",
+            label: "dilation rate D (1/s)",
             scale: ColourScale::Diverging,
             range: None,
             values: fields.dilation.clone(),
@@ -147,7 +147,7 @@ pub fn write_maps(
         MapSpec {
             suffix: "shear_rate",
             name: "shear rate dγ/dt",
-            label: "shear rate dγ/dt [1/s]",
+            label: "shear rate dγ/dt (1/s)",
             scale: ColourScale::Sequential,
             range: None,
             values: fields.shear_rate.clone(),
@@ -157,7 +157,7 @@ pub fn write_maps(
         maps.push(MapSpec {
             suffix: "pressure",
             name: "pressure",
-            label: "pressure p [MPa]",
+            label: "pressure p (MPa)",
             scale: ColourScale::Sequential,
             range: None,
             values: p
@@ -312,8 +312,8 @@ pub fn plot_fronts(path: &Path, title: &str, h: &FrontHistory) -> Result<(), Plo
     };
     LinePlot {
         title: &title,
-        x_label: "t [µs]",
-        y_label: "radius [mm]",
+        x_label: "t (µs)",
+        y_label: "radius (mm)",
         // Curves without a single point (no stress: no R_p) stay out of the legend.
         series: [
             ("R_in", &r_in),
@@ -353,10 +353,10 @@ pub fn plot_radial_profiles(
     for (suffix, label, get) in [
         (
             "phi",
-            "packing fraction φ [-]",
+            "packing fraction φ (−)",
             (|p: &RadialProfile| p.phi.clone()) as fn(&RadialProfile) -> Vec<f64>,
         ),
-        ("v_r", "radial velocity v_r [m/s]", |p: &RadialProfile| {
+        ("v_r", "radial velocity v_r (m/s)", |p: &RadialProfile| {
             p.v_r.clone()
         }),
     ] {
@@ -364,7 +364,7 @@ pub fn plot_radial_profiles(
         let path = dir.join(format!("{stem}_{suffix}.png"));
         LinePlot {
             title: &format!("{stem}: radial profiles, mean over sectors"),
-            x_label: "r [mm]",
+            x_label: "r (mm)",
             y_label: label,
             series: (0..profiles.len())
                 .map(|k| Series {
@@ -399,21 +399,21 @@ pub fn plot_azimuthal(
         (
             "phi",
             "band packing fraction",
-            "φ, radial mean over the band [-]",
+            "φ, radial mean over the band (−)",
             &a.phi,
         ),
         (
             "v_r",
             "band radial velocity",
-            "v_r, radial mean over the band [m/s]",
+            "v_r, radial mean over the band (m/s)",
             &a.v_r,
         ),
-        ("r_comp", "band outer radius", "R_comp [mm]", &r_mm),
+        ("r_comp", "band outer radius", "R_comp (mm)", &r_mm),
     ] {
         let path = dir.join(format!("{stem}_{suffix}.png"));
         LinePlot {
             title: &format!("{stem}: {what}, {when}"),
-            x_label: "θ [degrees]",
+            x_label: "θ (degrees)",
             y_label: label,
             series: vec![Series {
                 name: "",
@@ -444,7 +444,7 @@ pub fn plot_azimuthal(
     LinePlot {
         title: &format!("{stem}: azimuthal spectra of the band, {when}"),
         x_label: "mode number k",
-        y_label: "amplitude / mean [-]",
+        y_label: "amplitude / mean (−)",
         series: vec![
             Series {
                 name: "φ(θ)",

@@ -7,6 +7,39 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+/// A small DEM scenario that runs: one disk resting 0.1 mm above a floor, for 0.1 µs;
+/// the bad-input tests edit it.
+pub const ONE_DISK: &str = r#"
+name = "bad"
+gravity = [0.0, -9.81]
+
+[domain]
+lo = [0.0, 0.0]
+hi = [0.01, 0.01]
+
+[[material]]
+name = "quartz"
+density = 2560.0
+youngs = 72.0e9
+poisson = 0.27
+restitution = 0.5
+friction = 0.3
+
+[[particles]]
+source = "list"
+material = "quartz"
+disks = [{ at = [0.005, 0.0006], radius = 0.0005 }]
+
+[[wall]]
+name = "floor"
+shape = "segment"
+a = [0.0, 0.0]
+b = [0.01, 0.0]
+
+[run]
+duration = 1.0e-7
+"#;
+
 /// What a command printed and how it ended.
 pub struct Out {
     /// Exit code (-1 when killed by a signal).

@@ -27,7 +27,9 @@ pub(crate) fn draw_colour_bar(
         .margin_right(10)
         .right_y_label_area_size(120)
         .build_cartesian_2d(0.0..1.0, v0..v1)?;
-    let fy = |v: &f64| format_linear(*v, v0, v1);
+    // Two spaces keep the first digit clear of the tick marks, which otherwise cover
+    // it ("0.8" read as ".8").
+    let fy = |v: &f64| format!("  {}", format_linear(*v, v0, v1));
     // The bands fill the left of the bar's cell and go first, so that the tick labels
     // (which the compiled-in font's layout places partly over the cell) stay readable.
     let dv = (v1 - v0) / BAR_BANDS as f64;

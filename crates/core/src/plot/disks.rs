@@ -312,7 +312,7 @@ mod tests {
             }
         }
         let p = test_dir().join("disks.png");
-        scatter_disks_png(&p, "packing", &c, &r, &v, "speed [m/s]").unwrap();
+        scatter_disks_png(&p, "packing", &c, &r, &v, "speed (m/s)").unwrap();
         assert!(is_png(&p));
     }
 

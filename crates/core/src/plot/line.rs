@@ -72,6 +72,63 @@ impl LinePlot<'_> {
         })
     }
 
+    /// Where the legend goes so that it covers no data: the corner whose box holds
+    /// the fewest points, or, when every corner holds some, the upper right with the
+    /// y axis raised to leave the legend a band above the data. Returns the corner and
+    /// the (possibly raised) top of the y axis.
+    fn legend_place(
+        &self,
+        segments: &[Vec<Vec<(f64, f64)>>],
+        (x0, x1): (f64, f64),
+        (y0, y1): (f64, f64),
+    ) -> (SeriesLabelPosition, f64) {
+        let named: Vec<&str> = self
+            .series
+            .iter()
+            .map(|s| s.name)
+            .filter(|n| !n.is_empty())
+            .collect();
+        if named.is_empty() || !(x1 > x0 && y1 > y0) {
+            return (SeriesLabelPosition::UpperRight, y1);
+        }
+        // The legend's size as a fraction of the plotting area (about 1050 × 590 px):
+        // 9 px a character and 50 px of key and padding across, 27 px a row down.
+        let longest = named.iter().map(|n| n.chars().count()).max().unwrap_or(0);
+        let fw = ((9 * longest + 70) as f64 / 1050.0).min(0.95);
+        let fh = ((27 * named.len() + 25) as f64 / 590.0).min(0.9);
+        let corners = [
+            (SeriesLabelPosition::UpperRight, true, true),
+            (SeriesLabelPosition::UpperLeft, false, true),
+            (SeriesLabelPosition::LowerRight, true, false),
+            (SeriesLabelPosition::LowerLeft, false, false),
+        ];
+        let inside = |right: bool, upper: bool, (x, y): (f64, f64)| {
+            let u = (x - x0) / (x1 - x0);
+            let v = (y - y0) / (y1 - y0);
+            (if right { u > 1.0 - fw } else { u < fw })
+                && (if upper { v > 1.0 - fh } else { v < fh })
+        };
+        let count = |right: bool, upper: bool| {
+            segments
+                .iter()
+                .flatten()
+                .flatten()
+                .filter(|p| inside(right, upper, **p))
+                .count()
+        };
+        let best = corners
+            .into_iter()
+            .map(|(pos, right, upper)| (count(right, upper), pos))
+            .min_by_key(|(n, _)| *n);
+        match best {
+            Some((0, pos)) => (pos, y1),
+            _ => (
+                SeriesLabelPosition::UpperRight,
+                y1 + (y1 - y0) * fh / (1.0 - fh),
+            ),
+        }
+    }
+
     /// Splits a series into runs of drawable points, in plot coordinates
     /// (`log10 y` when `log_y`, since the axis is drawn in exponent space).
     fn segments(&self, s: &Series) -> Vec<Vec<(f64, f64)>> {
@@ -99,58 +156,6 @@ impl LinePlot<'_> {
         out
     }
 
-    /// The corner whose legend box would cover the fewest drawn points, upper right
-    /// first on a tie, so that the legend hides as little data as it can. The box is
-    /// sized from the labels (18 px text, about 10 px a character) against the
-    /// plotting area; lines are sampled between their points, so that a line crossing
-    /// a corner counts there.
-    fn legend_corner(
-        &self,
-        segments: &[Vec<Vec<(f64, f64)>>],
-        (x0, x1): (f64, f64),
-        (y0, y1): (f64, f64),
-    ) -> SeriesLabelPosition {
-        let names = self.series.iter().filter(|s| !s.name.is_empty());
-        let chars = names
-            .clone()
-            .map(|s| s.name.chars().count())
-            .max()
-            .unwrap_or(0);
-        let w = ((chars as f64 * 10.0 + 60.0) / PLOT_AREA.0).min(1.0);
-        let h = ((names.count() as f64 * 24.0 + 16.0) / PLOT_AREA.1).min(1.0);
-        let corners = [
-            (
-                SeriesLabelPosition::UpperRight,
-                (1.0 - w, 1.0),
-                (1.0 - h, 1.0),
-            ),
-            (SeriesLabelPosition::UpperLeft, (0.0, w), (1.0 - h, 1.0)),
-            (SeriesLabelPosition::LowerRight, (1.0 - w, 1.0), (0.0, h)),
-            (SeriesLabelPosition::LowerLeft, (0.0, w), (0.0, h)),
-        ];
-        let mut counts = [0usize; 4];
-        let mut count = |(x, y): (f64, f64)| {
-            let (u, v) = ((x - x0) / (x1 - x0), (y - y0) / (y1 - y0));
-            for (c, (_, (ua, ub), (va, vb))) in counts.iter_mut().zip(&corners) {
-                *c += usize::from(u >= *ua && u <= *ub && v >= *va && v <= *vb);
-            }
-        };
-        for seg in segments.iter().flatten() {
-            for pair in seg.windows(2) {
-                let ((xa, ya), (xb, yb)) = (pair[0], pair[1]);
-                for k in 0..8 {
-                    let f = k as f64 / 8.0;
-                    count((xa + f * (xb - xa), ya + f * (yb - ya)));
-                }
-            }
-            if let Some(&last) = seg.last() {
-                count(last);
-            }
-        }
-        let best = (0..4).min_by_key(|&k| counts[k]).unwrap_or(0);
-        corners[best].0.clone()
-    }
-
     fn draw(
         &self,
         root: &DrawingArea<BitMapBackend, Shift>,
@@ -167,6 +172,7 @@ impl LinePlot<'_> {
             Some((lo, hi)) if self.log_y && hi - lo < 1e-9 => (lo - 0.5, hi + 0.5),
             _ => axis_range(y_extent, 0.05),
         };
+        let (corner, y1) = self.legend_place(segments, (x0, x1), (y0, y1));
 
         let y_desc = if self.log_y {
             format!("{} (log scale)", self.y_label)
@@ -234,7 +240,7 @@ impl LinePlot<'_> {
         if any_label {
             chart
                 .configure_series_labels()
-                .position(self.legend_corner(segments, (x0, x1), (y0, y1)))
+                .position(corner)
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
                 .label_font((FONT, 18))
@@ -260,8 +266,8 @@ mod tests {
     fn plot<'a>(series: Vec<Series<'a>>, log_y: bool, points: bool) -> LinePlot<'a> {
         LinePlot {
             title: "test",
-            x_label: "t [s]",
-            y_label: "E [J]",
+            x_label: "t (s)",
+            y_label: "E (J)",
             series,
             log_y,
             points,
@@ -282,7 +288,7 @@ mod tests {
             false,
         );
         let segs: Vec<_> = p.series.iter().map(|s| p.segments(s)).collect();
-        let corner = p.legend_corner(&segs, (0.0, 40.0), (0.0, 900.0));
+        let (corner, _) = p.legend_place(&segs, (0.0, 40.0), (0.0, 900.0));
         assert_eq!(corner, SeriesLabelPosition::LowerRight);
         // Nothing drawn: upper right, as before.
         let empty = plot(
@@ -295,7 +301,7 @@ mod tests {
             false,
         );
         assert_eq!(
-            empty.legend_corner(&[vec![]], (0.0, 1.0), (0.0, 1.0)),
+            empty.legend_place(&[vec![]], (0.0, 1.0), (0.0, 1.0)).0,
             SeriesLabelPosition::UpperRight
         );
     }

@@ -225,8 +225,8 @@ impl PolarMap<'_> {
         chart
             .configure_mesh()
             .disable_mesh()
-            .x_desc("x [mm]")
-            .y_desc("y [mm]")
+            .x_desc("x (mm)")
+            .y_desc("y (mm)")
             .x_label_formatter(&fx)
             .y_label_formatter(&fy)
             .label_style((FONT, 16))
@@ -372,7 +372,7 @@ mod tests {
     fn map<'a>(edges: &'a [f64], values: &'a [f64], nt: usize) -> PolarMap<'a> {
         PolarMap {
             title: "test, t = 1.0 µs",
-            value_label: "p [MPa]",
+            value_label: "p (MPa)",
             r_edges: edges,
             n_theta: nt,
             values,

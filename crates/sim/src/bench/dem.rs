@@ -27,6 +27,9 @@ pub enum Bed {
 /// too large for memory is refused before it is built.
 pub fn run(bed: &Bed, steps: u64) -> Result<Report, String> {
     let threads = rayon::current_num_threads();
+    if steps == 0 {
+        return Err("--steps = 0: must be at least 1 (a rate needs timed steps)".into());
+    }
     let (n, what) = match bed {
         Bed::Built(0) => return Err("--particles = 0: must be at least 1".into()),
         Bed::Built(n) => (*n as u64, "--particles".to_string()),

@@ -127,6 +127,9 @@ pub fn setup(o: &Options) -> Result<(Setup, Particles, f64), String> {
     if o.particles == 0 {
         return Err("--particles = 0: must be at least 1".into());
     }
+    if o.steps == 0 {
+        return Err("--steps = 0: must be at least 1 (a rate needs timed steps)".into());
+    }
     if !(8..=4096).contains(&o.grid) {
         return Err(format!(
             "--grid = {}: must be 8 to 4096 cells per side",

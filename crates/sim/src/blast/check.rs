@@ -34,7 +34,13 @@ pub fn size(s: &Scenario, src: &Source) -> (u64, u64) {
     // A triangle of edge h has area √3/4 h²; the mesh grades from the centre's size to
     // the edge's, so the mean of the two bounds the count within a factor of 2.
     let h = 0.5 * (c.mesh.size_edge + c.mesh.size_centre);
-    let elements = PI * c.radius * c.radius / (3f64.sqrt() / 4.0 * h * h);
+    // Sizes the assembly will refuse (naming their keys) count as nothing here.
+    let counted = |v: f64| if v.is_finite() { v } else { 0.0 };
+    let elements = if h > 0.0 {
+        counted(PI * c.radius * c.radius / (3f64.sqrt() / 4.0 * h * h))
+    } else {
+        0.0
+    };
     let particles = match &s.ring {
         None => 0.0,
         Some(r) => match &r.packing {
@@ -53,8 +59,14 @@ pub fn size(s: &Scenario, src: &Source) -> (u64, u64) {
             // A triangular lattice fills 0.9069 of the ring at pitch d0(1 + spread).
             PackingSpec::Lattice { d0, spread, .. } => {
                 let pitch = d0 * (1.0 + spread);
-                0.9069 * PI * (r.outer_radius.powi(2) - r.inner_radius.powi(2))
-                    / (PI * 0.25 * pitch * pitch)
+                if pitch > 0.0 {
+                    counted(
+                        0.9069 * PI * (r.outer_radius.powi(2) - r.inner_radius.powi(2))
+                            / (PI * 0.25 * pitch * pitch),
+                    )
+                } else {
+                    0.0
+                }
             }
         },
     };
@@ -69,9 +81,10 @@ pub fn size(s: &Scenario, src: &Source) -> (u64, u64) {
 }
 
 fn memory(particles: u64, elements: u64) -> u64 {
-    particles.saturating_mul(BYTES_PER_PARTICLE)
-        + elements.saturating_mul(BYTES_PER_ELEMENT)
-        + (1 << 20)
+    particles
+        .saturating_mul(BYTES_PER_PARTICLE)
+        .saturating_add(elements.saturating_mul(BYTES_PER_ELEMENT))
+        .saturating_add(1 << 20)
 }
 
 /// The memory a run needs, checked against what is available, before anything is built.

@@ -90,7 +90,7 @@ pub fn write_all(
         let n = t_us.len();
         let mut v = vec![
             ("compact band", col("band_velocity")),
-            ("spall layer", col("spall_velocity")),
+            ("spall layer", spall_only(&col)),
         ];
         v.extend(levels.iter().map(|&(name, l)| (name, vec![l; n])));
         plot(
@@ -137,4 +137,21 @@ pub fn write_all(
         )?;
     }
     Ok(())
+}
+
+/// The spall layer's velocity from when it can exist: before the pressure front reaches
+/// the ring's outer edge, the disks beyond the band are the unshocked ring at rest, not a
+/// spall, and drawing their 0 m/s would read as a measurement (left as a gap instead).
+fn spall_only(col: &dyn Fn(&str) -> Vec<f64>) -> Vec<f64> {
+    let (mut v, front, outer) = (
+        col("spall_velocity"),
+        col("pressure_front"),
+        col("outer_radius"),
+    );
+    let reached = front.iter().zip(&outer).position(|(f, o)| *f >= 0.98 * *o);
+    if let Some(k) = reached {
+        let k = k.min(v.len());
+        v[..k].fill(f64::NAN);
+    }
+    v
 }

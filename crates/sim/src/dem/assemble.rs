@@ -450,7 +450,7 @@ fn check_wall_overlaps(setup: &Setup, p: &Particles) -> Result<(), InputError> {
     for i in 0..p.len() {
         for (w, wall) in setup.walls.iter().enumerate() {
             if let Some(overlap) = grains_dem::diagnostics::wall_overlap(setup, p, i, w) {
-                if overlap > p.radius[i] {
+                if overlap > super::RUNAWAY_OVERLAP * p.radius[i] {
                     return Err(InputError::new(
                         format!(
                             "particle {} at ({:.6e}, {:.6e})",
@@ -458,8 +458,9 @@ fn check_wall_overlaps(setup: &Setup, p: &Particles) -> Result<(), InputError> {
                         ),
                         format!("overlap {overlap:.4e} m with wall \"{}\"", wall.name),
                         format!(
-                            "a particle may overlap a wall by at most its radius {:.4e} m",
-                            p.radius[i]
+                            "a particle may overlap a wall by at most {} of its radius ({:.4e} m; the run's runaway limit): move it off the wall",
+                            super::RUNAWAY_OVERLAP,
+                            super::RUNAWAY_OVERLAP * p.radius[i]
                         ),
                     ));
                 }

@@ -90,5 +90,6 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
         format!("{:.4e} m", a.setup.skin),
     ));
     d.cost(&cost(n, walls, a.steps, threads));
+    d.warnings.extend(super::plausible::warnings(s, &a));
     Ok(d)
 }

@@ -5,6 +5,7 @@
 pub mod assemble;
 pub mod check;
 pub mod frames;
+pub mod plausible;
 pub mod plots;
 pub mod probes;
 pub mod records;
@@ -105,12 +106,13 @@ impl Simulation for Dem {
         if !d.finite {
             return Some("a position or velocity is not finite (NaN or infinity)".into());
         }
-        (d.max_overlap_ratio > RUNAWAY_OVERLAP).then(|| {
-            format!(
+        if d.max_overlap_ratio > RUNAWAY_OVERLAP {
+            return Some(format!(
                 "runaway overlap: {:.3} of a radius (limit {RUNAWAY_OVERLAP}); the time step is too large or the contacts too soft for the load",
                 d.max_overlap_ratio
-            )
-        })
+            ));
+        }
+        plausible::escaped(&self.setup, &self.state, self.dt)
     }
 
     fn particles(&self) -> ParticleView<'_> {

@@ -87,13 +87,17 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
         if setup.walls.is_empty() {
             break;
         }
-        let data: Vec<(&str, Vec<f64>)> = setup
-            .walls
-            .iter()
-            .map(|w| (w.name.as_str(), col(&format!("{}_{c}", w.name))))
-            .collect();
+        let (data, idle) = loaded_walls(setup, |w| col(&format!("{w}_{c}")));
+        let title = if idle.is_empty() {
+            format!("Force of the particles on each wall, along {axis}")
+        } else {
+            format!(
+                "Force of the particles on each wall, along {axis} (zero throughout: {})",
+                idle.join(", ")
+            )
+        };
         LinePlot {
-            title: &format!("Force of the particles on each wall, along {axis}"),
+            title: &title,
             x_label: "time (s)",
             y_label: &format!("force along {axis} per unit thickness (N/m)"),
             series: data
@@ -110,6 +114,35 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
         .write_png_and_csv(&dir.join(format!("wall_forces_{axis}.png")))?;
     }
     Ok(())
+}
+
+/// The walls' force series worth drawing, the smallest mean load first so that the
+/// largest (a floor's, which carries the bed) is drawn last, on top of the others' spikes;
+/// and the names of the walls whose force is zero throughout, which are left out.
+fn loaded_walls(
+    setup: &grains_dem::Setup,
+    force: impl Fn(&str) -> Vec<f64>,
+) -> (Vec<(&str, Vec<f64>)>, Vec<&str>) {
+    let peak = |v: &[f64]| {
+        v.iter()
+            .filter(|x| x.is_finite())
+            .fold(0.0f64, |m, x| m.max(x.abs()))
+    };
+    let (mut drawn, idle): (Vec<_>, Vec<_>) = setup
+        .walls
+        .iter()
+        .map(|w| (w.name.as_str(), force(&w.name)))
+        .partition(|(_, v)| peak(v) > 0.0);
+    let mean = |v: &[f64]| {
+        let f: Vec<f64> = v
+            .iter()
+            .filter(|x| x.is_finite())
+            .map(|x| x.abs())
+            .collect();
+        f.iter().sum::<f64>() / f.len().max(1) as f64
+    };
+    drawn.sort_by(|a, b| mean(&a.1).total_cmp(&mean(&b.1)));
+    (drawn, idle.into_iter().map(|(n, _)| n).collect())
 }
 
 /// The particles coloured by speed, with the walls drawn.

@@ -47,14 +47,16 @@ pub fn run(
     let input = |e: grains_core::input::InputError| RunError::Input(format!("{}: {e}", src.origin));
     let out = opts.out.clone();
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
-    let (mut sim, steps, dt_critical) = match &resume {
+    let (mut sim, steps, dt_critical, implausible) = match &resume {
         None => {
             let a = assemble(s, &src.base).map_err(input)?;
             let (steps, dt_critical) = (a.steps, a.dt_critical);
+            let implausible = super::plausible::warnings(s, &a);
             (
                 Dem::new(a, s.output.lammps_dump).map_err(input)?,
                 steps,
                 dt_critical,
+                implausible,
             )
         }
         Some(r) => {
@@ -62,7 +64,7 @@ pub fn run(
                 assemble_with(s, &src.base, Some(r.state.particles.clone())).map_err(input)?;
             let (steps, dt_critical) = (a.steps, a.dt_critical);
             let dem = Dem::resumed(a.setup, r.state.clone(), a.dt, s.output.lammps_dump);
-            (dem, steps, dt_critical)
+            (dem, steps, dt_critical, Vec::new())
         }
     };
     let mut plan = s.output.plan_by_steps(&CAPABILITIES, steps);
@@ -82,7 +84,7 @@ pub fn run(
         steps,
         opts.threads,
     );
-    if let Some(w) = e.warning() {
+    for w in e.warning().into_iter().chain(implausible) {
         opts.progress.announce(&format!("warning: {w}"));
     }
     let every = match plan.samples {

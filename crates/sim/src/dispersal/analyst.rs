@@ -447,8 +447,8 @@ fn plot_jets(path: &Path, name: &str, time: f64, j: &Jets) -> anyhow::Result<()>
     }
     LinePlot {
         title: &title,
-        x_label: "θ [degrees]",
-        y_label: "outer radius [mm]",
+        x_label: "θ (degrees)",
+        y_label: "outer radius (mm)",
         series,
         log_y: false,
         points: false,

@@ -260,6 +260,23 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
                 ));
             }
         }
+        // A shape far outside the grid would be filled point by point before the check
+        // below could refuse it (a rectangle reaching to -1e308 never ends): one
+        // reaching more than the grid's own size beyond it is refused by its bounds
+        // (a periodic y wraps a body back, but only one at most a period tall).
+        let (blo, bhi) = geometry.bounds();
+        let size = DVec2::new(g.hi[0] - g.lo[0], g.hi[1] - g.lo[1]);
+        let far = |k: usize| blo[k] < g.lo[k] - size[k] || bhi[k] > g.hi[k] + size[k];
+        if !(blo.is_finite() && bhi.is_finite()) || far(0) || far(1) {
+            return Err(InputError::new(
+                format!("{key}.geometry"),
+                format!("{:?}", b.geometry),
+                format!(
+                    "must lie inside the grid [{:?}, {:?}] (its bounds reach from ({:e}, {:e}) to ({:e}, {:e}))",
+                    g.lo, g.hi, blo.x, blo.y, bhi.x, bhi.y
+                ),
+            ));
+        }
         // Along a periodic y the points of a body across the seam come back inside.
         let points: Vec<DVec2> = geometry
             .fill(grid.lo, pitch)

@@ -12,7 +12,12 @@ use crate::source::Source;
 /// plus 24 B per Maxwell branch; grid: one 64 B record + 32 B kinematics per node and
 /// body patch, plus the 80 B global sums with several bodies.
 fn memory(points: u64, nodes: u64, branches: u64) -> u64 {
-    points * (200 + 24 * branches) + nodes * (96 + 80) + (1 << 20)
+    // Saturating: a zero cell size asks for "infinitely" many nodes, which the memory
+    // check then refuses instead of overflowing.
+    points
+        .saturating_mul(200 + 24 * branches)
+        .saturating_add(nodes.saturating_mul(96 + 80))
+        .saturating_add(1 << 20)
 }
 
 /// Maxwell branches each point stores: the most any material has.
@@ -23,6 +28,10 @@ fn branches(s: &Scenario) -> u64 {
 /// Points and grid nodes the scenario asks for, from its shapes' areas.
 fn size(s: &Scenario) -> (u64, u64) {
     let g = &s.grid;
+    // A cell size the assembly will refuse (naming its key) counts as nothing here.
+    if !(g.cell_size.is_finite() && g.cell_size > 0.0) {
+        return (0, 0);
+    }
     let pitch = g.cell_size / g.particles_per_cell.max(1) as f64;
     let points: f64 = s
         .bodies
