@@ -48,7 +48,7 @@ ax2.plot(frictions, heights, "s--", color="C1", label="bed height")
 ax2.set_ylabel("bed height (mm)", color="C1")
 ax.set_title("400 disks settled at rest, against friction")
 lines = ax.get_lines() + ax2.get_lines()
-ax.legend(lines, [l.get_label() for l in lines], loc="upper center")
+ax.legend(lines, [l.get_label() for l in lines], loc="center right")
 fig.tight_layout()
 out = sys.argv[1] if len(sys.argv) > 1 else "friction_sweep.png"
 fig.savefig(out, dpi=120)

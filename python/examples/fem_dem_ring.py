@@ -17,7 +17,7 @@ import numpy as np
 import grains
 
 ROOT = Path(__file__).resolve().parents[2]
-path = sys.argv[1] if len(sys.argv) > 1 else ROOT / "crates/sim/tests/data/ring_tiny.toml"
+path = sys.argv[1] if len(sys.argv) > 1 and sys.argv[1] else ROOT / "crates/sim/tests/data/ring_tiny.toml"
 sim = grains.Simulation.from_file(path)
 rows = []
 

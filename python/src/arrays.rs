@@ -8,9 +8,21 @@ use pyo3::prelude::*;
 
 /// An (N, 2) float64 array, copied from `v`.
 pub fn vec2<'py>(py: Python<'py>, v: &[DVec2]) -> Bound<'py, PyAny> {
-    let flat: Vec<f64> = v.iter().flat_map(|p| [p.x, p.y]).collect();
+    vec2_owned(py, v.to_vec())
+}
+
+// What `vec2_owned` relies on.
+const _: () = assert!(std::mem::size_of::<DVec2>() == 16 && std::mem::align_of::<DVec2>() == 8);
+
+/// An (N, 2) float64 array, taking `v` without a copy.
+pub fn vec2_owned(py: Python<'_>, v: Vec<DVec2>) -> Bound<'_, PyAny> {
+    let n = v.len();
+    let mut v = std::mem::ManuallyDrop::new(v);
+    // SAFETY: DVec2 is #[repr(C)] { x: f64, y: f64 }: two f64 with f64's alignment, so N
+    // of them are 2N f64 in the same allocation (capacity likewise).
+    let flat = unsafe { Vec::from_raw_parts(v.as_mut_ptr() as *mut f64, 2 * n, 2 * v.capacity()) };
     PyArray1::from_vec(py, flat)
-        .reshape([v.len(), 2])
+        .reshape([n, 2])
         .expect("2N values make N rows of 2")
         .into_any()
 }

@@ -1,7 +1,7 @@
 //! `grains.Simulation`: one handle on a run of any engine (a `Session`), stepped with
 //! the GIL released and Ctrl-C checked between steps.
 
-use crate::arrays::{ids, read_ids, read_vec2, scalars, vec2};
+use crate::arrays::{ids, read_ids, read_vec2, scalars, vec2, vec2_owned};
 use crate::{from_json, guarded, panic_message, InputError, InternalError};
 use grains_sim::session::{self, data::ParticleData, Session};
 use grains_sim::Status;
@@ -71,17 +71,17 @@ pub(crate) fn to_py(e: session::Error) -> PyErr {
     }
 }
 
-fn particles_object(py: Python<'_>, p: &ParticleData) -> PyResult<Particles> {
+fn particles_object(py: Python<'_>, p: ParticleData) -> PyResult<Particles> {
     let opt = |v: Option<Bound<'_, PyAny>>| v.map_or_else(|| py.None(), |b| b.unbind());
     Ok(Particles {
-        id: ids(py, p.id.clone()).unbind(),
-        position: vec2(py, &p.pos).unbind(),
-        velocity: vec2(py, &p.vel).unbind(),
-        omega: opt(p.omega.clone().map(|v| scalars(py, v))),
-        radius: scalars(py, p.radius.clone()).unbind(),
-        mass: scalars(py, p.mass.clone()).unbind(),
-        force: opt(p.force.as_ref().map(|v| vec2(py, v))),
-        torque: opt(p.torque.clone().map(|v| scalars(py, v))),
+        id: ids(py, p.id).unbind(),
+        position: vec2_owned(py, p.pos).unbind(),
+        velocity: vec2_owned(py, p.vel).unbind(),
+        omega: opt(p.omega.map(|v| scalars(py, v))),
+        radius: scalars(py, p.radius).unbind(),
+        mass: scalars(py, p.mass).unbind(),
+        force: opt(p.force.map(|v| vec2_owned(py, v))),
+        torque: opt(p.torque.map(|v| scalars(py, v))),
     })
 }
 
@@ -395,10 +395,10 @@ impl Simulation {
     fn particles(&self, py: Python<'_>) -> PyResult<Particles> {
         guarded(|| {
             if let Some(p) = self.in_step(|s| s.particles.clone()) {
-                return particles_object(py, &p);
+                return particles_object(py, (*p).clone());
             }
-            let p = self.with(|s| Ok(s.particles()))?;
-            particles_object(py, &p)
+            let p = self.with(|s| Ok(py.detach(move || s.particles())))?;
+            particles_object(py, p)
         })
     }
 
