@@ -149,6 +149,19 @@ fn analyze(py: Python<'_>, path: PathBuf, out: Option<PathBuf>) -> PyResult<Py<P
     })
 }
 
+/// For the test suite: panics with `message` inside a guarded call (with `pool`, on a
+/// worker of the thread pool, the GIL released), to show a panic becomes InternalError.
+#[pyfunction]
+#[pyo3(signature = (message, pool=false))]
+fn _panic(py: Python<'_>, message: String, pool: bool) -> PyResult<()> {
+    guarded(|| {
+        if pool {
+            py.detach(|| rayon::scope(|s| s.spawn(|_| panic!("{message}"))));
+        }
+        panic!("{message}")
+    })
+}
+
 /// grains: DEM, MPM and FEM–DEM simulations of granular materials, from Python.
 #[pymodule]
 fn grains(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -162,6 +175,7 @@ fn grains(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(pack, m)?)?;
     m.add_function(wrap_pyfunction!(analyze, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -213,3 +213,43 @@ def test_points_and_charge(data):
     b = grains.Simulation.from_file(data / "ring_tiny.toml")
     c = b.charge()
     assert c["triangles"].shape[1] == 3 and len(c["pressure"]) == len(c["triangles"])
+
+
+def test_a_rust_panic_is_an_internal_error_not_an_abort():
+    with pytest.raises(grains.InternalError, match="on purpose"):
+        grains._panic("on purpose")
+    with pytest.raises(grains.InternalError, match="on a worker"):
+        grains._panic("on a worker", pool=True)
+    assert issubclass(grains.InternalError, RuntimeError)
+
+
+SPEC = """
+name = "tiny"
+seed = 3
+
+[domain]
+shape = "rectangle"
+width = 0.02
+height = 0.02
+periodic_x = true
+
+[sizes]
+distribution = "gaussian"
+d0 = 1.0e-3
+delta = 0.113
+
+[protocol]
+rate = 2e-3
+target_fraction = 0.8
+"""
+
+
+def test_pack_and_analyze(tmp_path):
+    spec = tmp_path / "tiny.toml"
+    spec.write_text(SPEC)
+    d = grains.pack(spec, out=tmp_path / "pack")
+    assert d["position"].shape == (len(d["radius"]), 2) and len(d["radius"]) > 100
+    a = grains.analyze(tmp_path / "pack" / "packing.txt", out=tmp_path / "analysis")
+    assert (tmp_path / "analysis" / "analysis.json").is_file() and len(a) > 0
+    with pytest.raises(grains.InputError):
+        grains.pack(tmp_path / "missing.toml")
