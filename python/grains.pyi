@@ -39,8 +39,9 @@ class View:
     """A read-only zero-copy view of a particle field in the engine's storage order.
 
     Raises StaleViewError once the engine reorders or resizes its storage (DEM: at a
-    neighbour-list rebuild). An array taken with np.asarray(view) is valid only until
-    the next step: keep the view, not the array.
+    neighbour-list rebuild). An array taken with np.asarray(view) points into the
+    engine's memory: while it (or a slice of it) is referenced, stepping raises
+    RuntimeError. Keep the view, not the array.
     """
 
     array: npt.NDArray[Any]

@@ -172,6 +172,7 @@ fn grains(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<sim::Simulation>()?;
     m.add_class::<sim::Particles>()?;
     m.add_class::<view::View>()?;
+    m.add_class::<view::Guard>()?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(pack, m)?)?;
     m.add_function(wrap_pyfunction!(analyze, m)?)?;

@@ -28,6 +28,8 @@ pub struct Simulation {
     inner: Mutex<Session>,
     in_step: Mutex<Option<InStep>>,
     broken: AtomicBool,
+    /// Weak references to the owners of the arrays views handed out.
+    handed_out: Mutex<Vec<Py<PyAny>>>,
 }
 
 /// The particles in id order (copies); fields the engine has not are None.
@@ -142,6 +144,7 @@ impl Simulation {
             inner: Mutex::new(s),
             in_step: Mutex::new(None),
             broken: AtomicBool::new(false),
+            handed_out: Mutex::new(Vec::new()),
         }
     }
 
@@ -177,6 +180,41 @@ impl Simulation {
         }
     }
 
+    /// Records the owner of an array a view hands out.
+    pub fn hand_out(&self, owner: &Bound<'_, PyAny>) -> PyResult<()> {
+        let weak = owner
+            .py()
+            .import("weakref")?
+            .call_method1("ref", (owner,))?;
+        let mut list = self.handed_out.lock().unwrap_or_else(|e| e.into_inner());
+        if list.len() >= 256 {
+            // Many views read without a step between: forget the arrays already gone.
+            list.retain(|w| w.bind(owner.py()).call0().is_ok_and(|o| !o.is_none()));
+        }
+        list.push(weak.unbind());
+        Ok(())
+    }
+
+    /// Refuses to go on while an array handed out by a view is referenced: the step may
+    /// move the memory it points into.
+    fn no_arrays_out(&self, py: Python<'_>) -> PyResult<()> {
+        let mut list = self.handed_out.lock().unwrap_or_else(|e| e.into_inner());
+        let mut live = Vec::new();
+        for w in list.drain(..) {
+            if !w.bind(py).call0()?.is_none() {
+                live.push(w);
+            }
+        }
+        let n = live.len();
+        *list = live;
+        if n > 0 {
+            return Err(PyRuntimeError::new_err(format!(
+                "{n} array(s) taken from sim.view(...) (np.asarray(view), view.array, or slices of them) are still referenced; the step may move the memory they show: delete them, or copy what you keep, before stepping (the View objects themselves may stay)"
+            )));
+        }
+        Ok(())
+    }
+
     /// Enters a force callback: reads see `s`.
     pub fn enter(&self, s: InStep) {
         *self.in_step.lock().unwrap_or_else(|e| e.into_inner()) = Some(s);
@@ -205,6 +243,7 @@ impl Simulation {
         to_end: bool,
         stop_at_rule: bool,
     ) -> PyResult<Option<Status>> {
+        self.no_arrays_out(py)?;
         let mut left = n;
         let mut chunk = 1u64;
         while left > 0 {

@@ -1,8 +1,9 @@
 //! `grains.View`: a read-only, zero-copy numpy array over one particle field as the
 //! engine stores it. The engine re-sorts its particles at neighbour-list rebuilds, so a
 //! view remembers the storage's layout counter when it was made and raises
-//! `StaleViewError` once it has changed. The array `np.asarray(view)` gives is valid
-//! only until the next step: keep the view, not the array.
+//! `StaleViewError` once it has changed. An array `np.asarray(view)` gives points into
+//! the engine's memory, so while one (or a slice of it) is referenced the simulation
+//! refuses to step: keep the view, not the array.
 
 use crate::sim::Simulation;
 use crate::StaleViewError;
@@ -11,6 +12,13 @@ use numpy::ndarray::{ArrayView1, ArrayView2};
 use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+
+/// What every array a view hands out (and every numpy view of it) names as its base: while
+/// one lives, its weak reference in the simulation says so and stepping is refused.
+#[pyclass(module = "grains", frozen, weakref)]
+pub struct Guard {
+    _sim: Py<Simulation>,
+}
 
 /// A read-only zero-copy view of a particle field (storage order).
 #[pyclass(module = "grains", frozen)]
@@ -64,10 +72,18 @@ impl View {
                 me.name
             )));
         };
-        let owner = slf.clone().into_any();
-        // SAFETY: the slices belong to the session, which `owner` (the view, holding the
+        let owner = Bound::new(
+            py,
+            Guard {
+                _sim: me.sim.clone_ref(py),
+            },
+        )?;
+        sim.hand_out(&owner)?;
+        let owner = owner.into_any();
+        // SAFETY: the slices belong to the session, which `owner` (holding the
         // simulation) keeps alive; the layout check above says they have not been
-        // reallocated since the view was made. The array is marked read-only.
+        // reallocated since the view was made, and the simulation refuses to step (the
+        // only thing that moves them) while `owner` lives. The array is read-only.
         let a = unsafe {
             match field {
                 Field::Ids(v) => {

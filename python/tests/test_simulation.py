@@ -145,6 +145,11 @@ def test_a_view_is_zero_copy_read_only_and_raises_after_a_rebuild(data):
     ids = np.asarray(sim.view("id"))
     p = sim.particles()
     assert np.array_equal(np.asarray(v), p.position[ids])
+    tail = a[1:]
+    del a, ids
+    with pytest.raises(RuntimeError, match="still referenced"):
+        sim.step()  # a slice of a view's array still points into the engine's memory
+    del tail
     for _ in range(400):
         sim.step(10)
         if not v.valid:
