@@ -10,26 +10,6 @@ import pytest
 
 import grains
 
-FREE = """
-name = "free"
-[domain]
-lo = [-1.0, -1.0]
-hi = [1.0, 1.0]
-[[material]]
-name = "m"
-density = 1000.0
-youngs = 1.0e6
-poisson = 0.3
-restitution = 0.5
-friction = 0.3
-[[particles]]
-source = "list"
-material = "m"
-disks = [{ at = [0.0, 0.0], radius = 0.01, velocity = [0.1, 0.0] }]
-[run]
-duration = 0.01
-dt = 1.0e-5
-"""
 
 
 def test_unknown_key_is_an_input_error_naming_it(data):
@@ -46,10 +26,10 @@ def test_wrong_type_is_an_input_error_naming_the_key(data):
         grains.Simulation.from_toml(text)
 
 
-def test_from_dict_reads_the_same_schema():
+def test_from_dict_reads_the_same_schema(data):
     tomllib = pytest.importorskip("tomllib")
 
-    d = tomllib.loads(FREE)
+    d = tomllib.loads((data / "free_disk.toml").read_text())
     sim = grains.Simulation.from_dict(d)
     assert sim.engine == "dem" and sim.dim == 2
     d["run"]["speed"] = 3
@@ -173,8 +153,8 @@ def test_a_checkpoint_resumes_bitwise(data, tmp_path):
         assert again.state_hash() == sim.state_hash(), name
 
 
-def test_a_constant_force_gives_the_analytic_trajectory_of_a_free_particle():
-    sim = grains.Simulation.from_toml(FREE)
+def test_a_constant_force_gives_the_analytic_trajectory_of_a_free_particle(data):
+    sim = grains.Simulation.from_toml((data / "free_disk.toml").read_text())
     m = sim.particles().mass[0]
     f = np.array([[0.0, 2.0e-3]])
     sim.add_force(lambda s: f)

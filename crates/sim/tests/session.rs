@@ -85,27 +85,7 @@ impl OutsideForce for Constant {
 
 #[test]
 fn a_constant_outside_force_gives_a_free_particles_parabola() {
-    let text = r#"
-name = "free"
-[domain]
-lo = [-1.0, -1.0]
-hi = [1.0, 1.0]
-[[material]]
-name = "m"
-density = 1000.0
-youngs = 1.0e6
-poisson = 0.3
-restitution = 0.5
-friction = 0.3
-[[particles]]
-source = "list"
-material = "m"
-disks = [{ at = [0.0, 0.0], radius = 0.01, velocity = [0.1, 0.0] }]
-[run]
-duration = 0.01
-dt = 1.0e-5
-"#;
-    let mut s = Session::from_toml(text, Path::new(".")).unwrap();
+    let mut s = Session::open(source("free_disk.toml"), None).unwrap();
     let m = s.particles().mass[0];
     let f = DVec2::new(0.0, 2.0e-3);
     s.add_force(Box::new(Constant(f))).unwrap();
