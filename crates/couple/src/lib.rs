@@ -13,4 +13,4 @@ pub mod penalty;
 pub mod step;
 
 pub use penalty::Coupling;
-pub use step::{coupled_step, Ring};
+pub use step::{coupled_step, coupled_step_with, Ring};

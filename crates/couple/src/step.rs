@@ -55,6 +55,7 @@ struct Edge<'a> {
     charge: &'a mut Charge,
     coupling: &'a mut Coupling,
     grid_box: &'a mut (DVec2, DVec2),
+    outside: &'a mut dyn FnMut(&mut Particles),
 }
 
 impl Hooks for Edge<'_> {
@@ -74,6 +75,7 @@ impl Hooks for Edge<'_> {
 
     fn post_force(&mut self, p: &mut Particles) {
         self.coupling.forces(self.charge, p);
+        (self.outside)(p);
     }
 }
 
@@ -84,12 +86,25 @@ pub fn coupled_step(
     ring: &mut Ring,
     dt: f64,
 ) -> Result<(), Breakdown> {
+    coupled_step_with(fem, charge, ring, dt, &mut |_| {})
+}
+
+/// Advances charge and ring by `dt`, `outside` adding forces of its own to the
+/// particles' sums after the pair and penalty forces (a scripted field, a callback).
+pub fn coupled_step_with(
+    fem: &FemSetup,
+    charge: &mut Charge,
+    ring: &mut Ring,
+    dt: f64,
+    outside: &mut dyn FnMut(&mut Particles),
+) -> Result<(), Breakdown> {
     fem_int::kick_drift(charge, dt);
     stress_forces(fem, charge, dt)?;
     let mut edge = Edge {
         charge,
         coupling: &mut ring.coupling,
         grid_box: &mut ring.grid_box,
+        outside,
     };
     step_with(&ring.setup, &mut ring.state, dt, &mut edge);
     fem_int::kick(fem, charge, dt);

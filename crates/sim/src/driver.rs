@@ -324,99 +324,188 @@ pub fn run<S: Simulation>(
     observers: &mut [&mut dyn Observer<S>],
     plan: &Plan,
     control: &mut Control,
-    mut counters: Counters,
+    counters: Counters,
 ) -> anyhow::Result<Outcome> {
-    let first_step = sim.clock().step;
-    if counters.last_frame_step.is_none() {
-        // A run that has not started yet: its first frame is the initial state.
-        frame(sim, observers, FrameKind::Regular, &mut counters)?;
-    }
-    let started = Instant::now();
+    let mut stepper = Stepper::start(sim, observers, plan.clone(), counters)?;
     let mut status = Status::Completed;
     // Stepping from inside the pool keeps each parallel pass from waking it from outside.
     rayon::scope(|_| -> anyhow::Result<()> {
-        while !plan.horizon.reached(sim.clock()) {
-            if let Err(why) = sim.advance() {
-                status = unstable_at(sim.clock(), &why);
-                return Ok(());
-            }
-            for o in observers.iter_mut() {
-                o.on_step(sim);
-            }
-            let c = sim.clock();
-            let end = plan.horizon.reached(c);
-            if due(plan.samples, c, &mut counters.next_sample) || end {
-                let sample = sim.sample();
-                if let Some(why) = sim.unstable(&sample) {
-                    status = unstable_at(c, &why);
-                    return Ok(());
-                }
-                for o in observers.iter_mut() {
-                    if let Flow::Stop(s) = o.on_sample(sim, &sample)? {
-                        status = s;
-                    }
-                }
-                if status != Status::Completed {
-                    return Ok(());
-                }
-            }
-            let regular = due(plan.frames, c, &mut counters.next_frame);
-            let mut snapped = false;
-            while counters.snapshots_done < plan.snapshots.len()
-                && c.time >= plan.snapshots[counters.snapshots_done] * (1.0 - 1e-9)
-            {
-                counters.snapshots_done += 1;
-                snapped = true;
-            }
-            // A snapshot on a step the schedule also wants is one frame, not the same
-            // state twice in the series.
-            if snapped {
-                frame(sim, observers, FrameKind::Snapshot, &mut counters)?;
-            } else if regular {
-                frame(sim, observers, FrameKind::Regular, &mut counters)?;
-            }
-            control.progress.update(plan.horizon.fraction(c), c);
-            let pause = control.stop_at_step.is_some_and(|s| c.step >= s);
-            let signal = control.interrupt.is_some_and(|f| f.load(Ordering::Relaxed));
-            let periodic = plan
-                .checkpoint_every
-                .is_some_and(|k| c.step.is_multiple_of(k.max(1)));
-            if pause || signal || periodic {
-                let mut saved = counters.clone();
-                saved.wall_time += started.elapsed().as_secs_f64();
-                saved.steps_before += c.step - first_step;
-                save_checkpoint(sim, observers, control, &saved)?;
-                if pause || signal {
-                    status = if signal {
-                        Status::Interrupted
-                    } else {
-                        Status::Paused
-                    };
-                    return Ok(());
-                }
+        while !stepper.over(sim) {
+            if let Some(s) = stepper.step(sim, observers, control)? {
+                status = s;
+                break;
             }
         }
         Ok(())
     })?;
-    control.progress.finish();
-    let clock = sim.clock();
-    let wall_time_s = counters.wall_time + started.elapsed().as_secs_f64();
-    let steps_run = counters.steps_before + clock.step - first_step;
-    if status.finished() && counters.last_frame_step != Some(clock.step) {
-        frame(sim, observers, FrameKind::Final, &mut counters)?;
+    stepper.finish(sim, observers, status, control)
+}
+
+/// The run loop taken apart, so that a caller can step a run a few steps at a time
+/// (the library façade, [`crate::session`]) and still feed every observer exactly as
+/// [`run`] does: [`Stepper::start`], then [`Stepper::step`] until it says stop or the
+/// plan is over, then [`Stepper::finish`].
+pub struct Stepper {
+    /// The schedule.
+    pub plan: Plan,
+    /// The loop's counters (frames, next sample and frame times, earlier segments).
+    pub counters: Counters,
+    first_step: u64,
+    /// Wall-clock seconds spent stepping in this segment.
+    stepping: f64,
+}
+
+impl Stepper {
+    /// Starts (or resumes) a run: a run that has not started yet writes its first
+    /// frame, the initial state.
+    pub fn start<S: Simulation>(
+        sim: &S,
+        observers: &mut [&mut dyn Observer<S>],
+        plan: Plan,
+        mut counters: Counters,
+    ) -> anyhow::Result<Self> {
+        if counters.last_frame_step.is_none() {
+            frame(sim, observers, FrameKind::Regular, &mut counters)?;
+        }
+        Ok(Stepper {
+            plan,
+            counters,
+            first_step: sim.clock().step,
+            stepping: 0.0,
+        })
     }
-    let mut report = Report::default();
-    for o in observers.iter_mut() {
-        o.on_end(sim, &status, &mut report)?;
+
+    /// Whether the plan's end is reached.
+    pub fn over<S: Simulation>(&self, sim: &S) -> bool {
+        self.plan.horizon.reached(sim.clock())
     }
-    discount(&mut report, &status);
-    Ok(Outcome {
-        status,
-        clock,
-        steps_run,
-        wall_time_s,
-        report,
-    })
+
+    /// How far the plan has got, 0 to 1.
+    pub fn fraction(&self, c: Clock) -> f64 {
+        self.plan.horizon.fraction(c)
+    }
+
+    /// One step with everything the plan wants at it (samples, frames, checkpoints);
+    /// `Some` when the run must stop there, with why.
+    pub fn step<S: Simulation>(
+        &mut self,
+        sim: &mut S,
+        observers: &mut [&mut dyn Observer<S>],
+        control: &mut Control,
+    ) -> anyhow::Result<Option<Status>> {
+        let started = Instant::now();
+        let r = self.step_timed(sim, observers, control);
+        self.stepping += started.elapsed().as_secs_f64();
+        r
+    }
+
+    fn step_timed<S: Simulation>(
+        &mut self,
+        sim: &mut S,
+        observers: &mut [&mut dyn Observer<S>],
+        control: &mut Control,
+    ) -> anyhow::Result<Option<Status>> {
+        let plan = &self.plan;
+        let counters = &mut self.counters;
+        if let Err(why) = sim.advance() {
+            return Ok(Some(unstable_at(sim.clock(), &why)));
+        }
+        for o in observers.iter_mut() {
+            o.on_step(sim);
+        }
+        let c = sim.clock();
+        let end = plan.horizon.reached(c);
+        if due(plan.samples, c, &mut counters.next_sample) || end {
+            let sample = sim.sample();
+            if let Some(why) = sim.unstable(&sample) {
+                return Ok(Some(unstable_at(c, &why)));
+            }
+            let mut status = Status::Completed;
+            for o in observers.iter_mut() {
+                if let Flow::Stop(s) = o.on_sample(sim, &sample)? {
+                    status = s;
+                }
+            }
+            if status != Status::Completed {
+                return Ok(Some(status));
+            }
+        }
+        let regular = due(plan.frames, c, &mut counters.next_frame);
+        let mut snapped = false;
+        while counters.snapshots_done < plan.snapshots.len()
+            && c.time >= plan.snapshots[counters.snapshots_done] * (1.0 - 1e-9)
+        {
+            counters.snapshots_done += 1;
+            snapped = true;
+        }
+        // A snapshot on a step the schedule also wants is one frame, not the same
+        // state twice in the series.
+        if snapped {
+            frame(sim, observers, FrameKind::Snapshot, counters)?;
+        } else if regular {
+            frame(sim, observers, FrameKind::Regular, counters)?;
+        }
+        control.progress.update(plan.horizon.fraction(c), c);
+        let pause = control.stop_at_step.is_some_and(|s| c.step >= s);
+        let signal = control.interrupt.is_some_and(|f| f.load(Ordering::Relaxed));
+        let periodic = plan
+            .checkpoint_every
+            .is_some_and(|k| c.step.is_multiple_of(k.max(1)));
+        if pause || signal || periodic {
+            self.checkpoint(sim, observers, control)?;
+            if signal {
+                return Ok(Some(Status::Interrupted));
+            }
+            if pause {
+                return Ok(Some(Status::Paused));
+            }
+        }
+        Ok(None)
+    }
+
+    /// Writes a checkpoint of the run as it stands into `control.checkpoint_dir`
+    /// (nothing when the engine has none); `true` when one was written.
+    pub fn checkpoint<S: Simulation>(
+        &self,
+        sim: &S,
+        observers: &mut [&mut dyn Observer<S>],
+        control: &Control,
+    ) -> anyhow::Result<bool> {
+        let mut saved = self.counters.clone();
+        saved.wall_time += self.stepping;
+        saved.steps_before += sim.clock().step - self.first_step;
+        save_checkpoint(sim, observers, control, &saved)
+    }
+
+    /// Ends the run with `status`: a run that finished gets its last frame, and every
+    /// observer reports.
+    pub fn finish<S: Simulation>(
+        &mut self,
+        sim: &S,
+        observers: &mut [&mut dyn Observer<S>],
+        status: Status,
+        control: &mut Control,
+    ) -> anyhow::Result<Outcome> {
+        control.progress.finish();
+        let clock = sim.clock();
+        let wall_time_s = self.counters.wall_time + self.stepping;
+        let steps_run = self.counters.steps_before + clock.step - self.first_step;
+        if status.finished() && self.counters.last_frame_step != Some(clock.step) {
+            frame(sim, observers, FrameKind::Final, &mut self.counters)?;
+        }
+        let mut report = Report::default();
+        for o in observers.iter_mut() {
+            o.on_end(sim, &status, &mut report)?;
+        }
+        discount(&mut report, &status);
+        Ok(Outcome {
+            status,
+            clock,
+            steps_run,
+            wall_time_s,
+            report,
+        })
+    }
 }
 
 /// A run that did not finish has not earned its checks: an unstable run's fail, with a
@@ -461,9 +550,9 @@ fn save_checkpoint<S: Simulation>(
     observers: &mut [&mut dyn Observer<S>],
     control: &Control,
     counters: &Counters,
-) -> anyhow::Result<()> {
+) -> anyhow::Result<bool> {
     let (Some(dir), Some(state)) = (&control.checkpoint_dir, sim.checkpoint()) else {
-        return Ok(());
+        return Ok(false);
     };
     for o in observers.iter_mut() {
         o.persist()?;
@@ -480,7 +569,8 @@ fn save_checkpoint<S: Simulation>(
     }
     let path = dir.join(checkpoint::FILE);
     checkpoint::save(&path, control.scenario_text, &state, &saved)
-        .with_context(|| format!("cannot write {}", path.display()))
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(true)
 }
 
 /// Hands each observer what it saved in a checkpoint.

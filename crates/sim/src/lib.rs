@@ -24,6 +24,7 @@ pub mod dem;
 pub mod dispersal;
 pub mod driver;
 pub mod estimate;
+pub mod forces;
 pub mod frames;
 pub mod history;
 pub mod mpm;
@@ -32,6 +33,7 @@ pub mod pack;
 pub mod packings;
 pub mod run;
 pub mod scenario;
+pub mod session;
 pub mod source;
 pub mod summary;
 

@@ -8,7 +8,7 @@
 //! assert!(done.checks.iter().all(|c| c.pass));
 //! ```
 
-use crate::driver::{self, Outcome, Progress, Silent, Simulation, Status};
+use crate::driver::{self, Observer, Outcome, Progress, Silent, Simulation, Status};
 use crate::scenario::{self, Scenario};
 use crate::source::Source;
 use crate::summary::Summary;
@@ -86,16 +86,54 @@ pub struct Finished {
 }
 
 /// Runs the scenario `src` with `opts`: every output goes into `opts.out`.
-pub fn run(src: &Source, opts: RunOptions) -> Result<Finished, RunError> {
-    match scenario::parse(src).map_err(RunError::Input)? {
-        Scenario::Dem(s) => dem::run::run(&s, src, opts, None),
-        Scenario::Mpm(s) => mpm::run::run(&s, src, opts),
-        Scenario::FemDem(s) => blast::run::run(&s, src, opts, None),
-    }
+pub fn run(src: &Source, mut opts: RunOptions) -> Result<Finished, RunError> {
+    open(src, &mut opts)?.run_to_end(&mut opts, src)
 }
 
 /// Continues the run in `dir` from its checkpoint.
 pub fn resume(dir: &Path, mut opts: RunOptions) -> Result<Finished, RunError> {
+    let (mut live, src) = open_resumed(dir, &mut opts)?;
+    live.run_to_end(&mut opts, &src)
+}
+
+/// A run of any engine in progress.
+pub enum AnyRun {
+    /// `engine = "dem"`.
+    Dem(Box<dem::run::DemRun>),
+    /// `engine = "mpm"`.
+    Mpm(Box<mpm::run::MpmRun>),
+    /// `engine = "fem_dem"`.
+    FemDem(Box<blast::run::BlastRun>),
+}
+
+impl AnyRun {
+    /// Steps the run to the end of its plan (or until it stops) and concludes it.
+    pub fn run_to_end(
+        &mut self,
+        opts: &mut RunOptions,
+        src: &Source,
+    ) -> Result<Finished, RunError> {
+        match self {
+            AnyRun::Dem(l) => run_live(l.as_mut(), opts, src),
+            AnyRun::Mpm(l) => run_live(l.as_mut(), opts, src),
+            AnyRun::FemDem(l) => run_live(l.as_mut(), opts, src),
+        }
+    }
+}
+
+/// Prepares the run of the scenario `src` into `opts.out` (validated, assembled, its
+/// output directory started).
+pub fn open(src: &Source, opts: &mut RunOptions) -> Result<AnyRun, RunError> {
+    Ok(match scenario::parse(src).map_err(RunError::Input)? {
+        Scenario::Dem(s) => AnyRun::Dem(Box::new(dem::run::open(&s, src, opts, None)?)),
+        Scenario::Mpm(s) => AnyRun::Mpm(Box::new(mpm::run::open(&s, src, opts)?)),
+        Scenario::FemDem(s) => AnyRun::FemDem(Box::new(blast::run::open(&s, src, opts, None)?)),
+    })
+}
+
+/// Prepares the continuation of the run in `dir` from its checkpoint (`opts.out`
+/// becomes `dir`); also returns the scenario as the run reads it.
+pub fn open_resumed(dir: &Path, opts: &mut RunOptions) -> Result<(AnyRun, Source), RunError> {
     let src = Source::read(&dir.join("scenario.toml")).map_err(|e| {
         RunError::Input(format!(
             "{e} (is {} a grains run directory?)",
@@ -119,12 +157,14 @@ pub fn resume(dir: &Path, mut opts: RunOptions) -> Result<Finished, RunError> {
         Scenario::Dem(s) => {
             let saved = dem::run::load_checkpoint(&s, &src, dir)?;
             let src = from_base(src, saved.base());
-            dem::run::run(&s, &src, opts, Some(saved))
+            let live = dem::run::open(&s, &src, opts, Some(saved))?;
+            Ok((AnyRun::Dem(Box::new(live)), src))
         }
         Scenario::FemDem(s) => {
             let saved = blast::run::load_checkpoint(&src, dir)?;
             let src = from_base(src, saved.base());
-            blast::run::run(&s, &src, opts, Some(saved))
+            let live = blast::run::open(&s, &src, opts, Some(saved))?;
+            Ok((AnyRun::FemDem(Box::new(live)), src))
         }
         other => Err(RunError::Input(format!(
             "{}: resume is supported for engine = \"dem\" and \"fem_dem\" runs, this one is engine = \"{}\"",
@@ -221,27 +261,74 @@ pub fn finish(summary: Summary, status: Status, out: &Path) -> Result<Finished, 
     })
 }
 
-/// Runs the driver with the options' controls.
-pub fn drive<S: Simulation>(
-    sim: &mut S,
-    observers: &mut [&mut dyn driver::Observer<S>],
-    plan: &driver::Plan,
-    opts: &mut RunOptions,
-    src: &Source,
-    counters: driver::Counters,
-) -> anyhow::Result<Outcome> {
+/// The message of a run stopped with a checkpoint.
+pub fn resume_hint(step: u64, out: &Path) -> String {
+    format!(
+        "stopped at step {step} with a checkpoint; continue with `grains resume {}`",
+        out.display()
+    )
+}
+
+/// An engine's run in progress, as `grains run` drives it: prepared (output directory
+/// started, first frame written) by the engine's `open`, stepped through
+/// [`driver::Stepper`] with every observer, and concluded into its plots and summary.
+/// The command line ([`run_live`]) and the library façade ([`crate::session`]) both go
+/// through it.
+pub trait Live: Send {
+    /// The engine's simulation.
+    type S: Simulation;
+    /// The simulation, the loop and the observers, to step them together.
+    fn parts(
+        &mut self,
+    ) -> (
+        &mut Self::S,
+        &mut driver::Stepper,
+        Vec<&mut dyn Observer<Self::S>>,
+    );
+    /// The history so far.
+    fn history(&self) -> &grains_core::history::History;
+    /// Writes the end-of-run outputs (plots, figures, summary) for `outcome`.
+    fn conclude(&mut self, outcome: Outcome, threads: usize) -> Result<Finished, RunError>;
+}
+
+/// The loop's controls from the options of a run of `src`.
+pub fn control<'a>(opts: &'a mut RunOptions, src: &'a Source) -> driver::Control<'a> {
     let base = if src.base.as_os_str().is_empty() {
         Path::new(".")
     } else {
         src.base.as_path()
     };
-    let mut control = driver::Control {
+    driver::Control {
         stop_at_step: opts.stop_at_step,
         interrupt: opts.interrupt,
         progress: opts.progress.as_mut(),
         checkpoint_dir: Some(opts.out.clone()),
         scenario_text: &src.text,
         scenario_base: std::fs::canonicalize(base).ok(),
-    };
-    driver::run(sim, observers, plan, &mut control, counters)
+    }
+}
+
+/// Steps `live` to the end of its plan (or until it stops) and concludes it.
+pub fn run_live<L: Live>(
+    live: &mut L,
+    opts: &mut RunOptions,
+    src: &Source,
+) -> Result<Finished, RunError> {
+    let threads = opts.threads;
+    let mut control = control(opts, src);
+    let (sim, stepper, mut observers) = live.parts();
+    let mut status = Status::Completed;
+    // Stepping from inside the pool keeps each parallel pass from waking it from outside.
+    rayon::scope(|_| -> anyhow::Result<()> {
+        while !stepper.over(sim) {
+            if let Some(s) = stepper.step(sim, &mut observers, &mut control)? {
+                status = s;
+                break;
+            }
+        }
+        Ok(())
+    })?;
+    let outcome = stepper.finish(sim, &mut observers, status, &mut control)?;
+    drop(observers);
+    live.conclude(outcome, threads)
 }

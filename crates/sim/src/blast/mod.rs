@@ -18,10 +18,11 @@ pub mod scenario;
 
 use crate::dispersal::{Dispersing, Frame};
 use crate::driver::{Clock, ParticleView, Simulation};
+use crate::forces::Outside;
 use crate::output::Capabilities;
 use glam::DVec2;
 use grains_analysis::ring::{self as ring_analysis, Disks, RingFigures, Rule};
-use grains_couple::{coupled_step, Coupling, Ring};
+use grains_couple::{coupled_step, coupled_step_with, Coupling, Ring};
 use grains_fem::diagnostics::{energies, fronts, Energies, Fronts};
 use grains_fem::{Charge, FemSetup};
 use std::borrow::Cow;
@@ -65,6 +66,8 @@ pub struct Blast {
     pub max_penetration: f64,
     /// The particles' own step bound (s).
     pub dt_particles: f64,
+    /// Forces on the ring from outside (none in a scenario run).
+    pub outside: Outside,
     /// Fraction of the penalty springs' stable step.
     coupling_safety: f64,
     /// The smallest step the run accepts (s).
@@ -121,6 +124,7 @@ impl Blast {
             dt_range: (f64::INFINITY, 0.0),
             max_penetration: 0.0,
             dt_particles,
+            outside: Outside::default(),
             coupling_safety,
             sectors: ring_analysis::sectors(&rule, r_in, mean_d),
             rule,
@@ -190,6 +194,12 @@ impl Simulation for Blast {
         self.dt_range = (self.dt_range.0.min(dt), self.dt_range.1.max(dt));
         self.dt = dt;
         match self.ring.as_mut() {
+            Some(r) if !self.outside.is_empty() => {
+                let (outside, time) = (&mut self.outside, self.charge.time + dt);
+                coupled_step_with(&self.fem, &mut self.charge, r, dt, &mut |p| {
+                    outside.apply(time, p)
+                })
+            }
             Some(r) => coupled_step(&self.fem, &mut self.charge, r, dt),
             None => grains_fem::step(&self.fem, &mut self.charge, dt),
         }

@@ -6,13 +6,18 @@ use super::scenario::Scenario;
 use super::{ledger, models, plots, probes, Blast, BlastSample, CAPABILITIES};
 use crate::checkpoint;
 use crate::dispersal::DispersalObserver;
-use crate::driver::{discount, restore_observers, Counters, Observer, Report, Status};
+use crate::driver::{
+    discount, restore_observers, Counters, Observer, Outcome, Report, Status, Stepper,
+};
 use crate::frames::FrameRecorder;
 use crate::frames::{Mapped, Snapshots};
 use crate::history::{HistoryRecorder, Recorded};
 use crate::packings::Cached;
-use crate::run::{drive, finish, fresh_out, summary, Costs, Finished, RunError, RunOptions};
+use crate::run::{
+    finish, fresh_out, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions,
+};
 use crate::source::Source;
+use grains_core::history::History;
 use grains_core::plot::{time_label, Outline, ParticleMap};
 use std::path::{Path, PathBuf};
 
@@ -127,13 +132,49 @@ pub fn load_checkpoint(src: &Source, dir: &Path) -> Result<Resume, RunError> {
     Ok(Resume { progress, state })
 }
 
-/// Runs `s` (read from `src`) into `opts.out`, or continues it from `resume`.
-pub fn run(
+/// A FEM–DEM run in progress: the simulation, the loop and every observer of
+/// `grains run`, writing into its output directory as it goes.
+pub struct BlastRun {
+    /// The simulation.
+    pub sim: Blast,
+    stepper: Stepper,
+    watchers: Watchers,
+    scenario: Box<Scenario>,
+    charge_mass: f64,
+    out: PathBuf,
+}
+
+struct Watchers {
+    history: HistoryRecorder,
+    frames: FrameRecorder,
+    snaps: Snapshots,
+    last: FinalMap,
+    dispersal: Option<DispersalObserver>,
+}
+
+impl Watchers {
+    fn list(&mut self) -> Vec<&mut dyn Observer<Blast>> {
+        let mut o: Vec<&mut dyn Observer<Blast>> = vec![
+            &mut self.history,
+            &mut self.frames,
+            &mut self.snaps,
+            &mut self.last,
+        ];
+        if let Some(d) = self.dispersal.as_mut() {
+            o.push(d);
+        }
+        o
+    }
+}
+
+/// Prepares the run of `s` (read from `src`) into `opts.out`, or its continuation from
+/// `resume`: assembled, its output directory started, its first frame written.
+pub fn open(
     s: &Scenario,
     src: &Source,
-    mut opts: RunOptions,
+    opts: &mut RunOptions,
     resume: Option<Resume>,
-) -> Result<Finished, RunError> {
+) -> Result<BlastRun, RunError> {
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
     let input = |e: String| RunError::Input(format!("{}: {e}", src.origin));
     if let Some(od) = on_demand(s, &src.base).map_err(input)? {
@@ -159,7 +200,7 @@ pub fn run(
         out.display()
     ));
     let mut sim = Blast::new(s, a);
-    let (mut history, mut frames, counters) = match &resume {
+    let (history, frames, counters) = match &resume {
         None => {
             fresh_out(&out, &src.text)?;
             let history = HistoryRecorder::create(&out, &mut sim)?;
@@ -177,10 +218,10 @@ pub fn run(
             (history, frames, Some(c))
         }
     };
-    let mut snaps = Snapshots {
+    let snaps = Snapshots {
         dir: out.join("plots"),
     };
-    let mut last = FinalMap {
+    let last = FinalMap {
         dir: out.join("plots"),
     };
     std::fs::create_dir_all(&snaps.dir)
@@ -188,7 +229,7 @@ pub fn run(
     let mut plan = s.output.plan_by_time(&CAPABILITIES, s.run.duration);
     // On a resumed run the analysis covers the new segment; `grains analyze RUN_DIR`
     // covers every frame.
-    let mut dispersal = match (&s.analysis.dispersal, &sim.ring) {
+    let dispersal = match (&s.analysis.dispersal, &sim.ring) {
         (Some(d), Some(_)) => {
             // A frame at each chosen time, so that the maps there can be made again
             // from the frames.
@@ -206,113 +247,138 @@ pub fn run(
         }
         _ => None,
     };
-    let outcome = {
-        let mut observers: Vec<&mut dyn Observer<Blast>> =
-            vec![&mut history, &mut frames, &mut snaps, &mut last];
-        if let Some(d) = dispersal.as_mut() {
-            observers.push(d);
-        }
-        if let Some(r) = &resume {
-            restore_observers(&mut observers, &r.progress.observers)?;
-        }
-        let counters = counters.unwrap_or_else(|| Counters::fresh(&plan));
-        drive(&mut sim, &mut observers, &plan, &mut opts, src, counters)?
+    let mut watchers = Watchers {
+        history,
+        frames,
+        snaps,
+        last,
+        dispersal,
     };
-    let ring_mass: Option<f64> = sim.ring.as_ref().map(|r| {
-        let p = &r.state.particles;
-        (0..p.len()).map(|i| p.mass(i)).sum()
-    });
-    let ring_models = ring_mass.and_then(|mass| models::figures(s, mass, sim.charge.time));
-    let ctx = probes::Context {
-        scn: s,
-        fem: &sim.fem,
-        charge: &sim.charge,
-        e0: sim.e0,
-        history: &history.history,
+    let mut observers = watchers.list();
+    if let Some(r) = &resume {
+        restore_observers(&mut observers, &r.progress.observers)?;
+    }
+    let counters = counters.unwrap_or_else(|| Counters::fresh(&plan));
+    let stepper = Stepper::start(&sim, &mut observers, plan, counters)?;
+    drop(observers);
+    Ok(BlastRun {
+        sim,
+        stepper,
+        watchers,
+        scenario: Box::new(s.clone()),
         charge_mass,
-        ring_mass,
-        dispersal: outcome.report.figures.get("dispersal"),
-        models: ring_models.as_ref(),
-    };
-    let (checks, mut figures, arrival) = probes::evaluate(&ctx);
-    figures.insert("max_penetration_ratio".into(), sim.max_penetration.into());
-    figures.insert("dt_min".into(), sim.dt_range.0.into());
-    figures.insert("dt_max".into(), sim.dt_range.1.into());
-    figures.insert("charge_elements".into(), sim.charge.n_elems().into());
-    if let Some(r) = &sim.ring {
-        figures.insert("coupling_stiffness".into(), r.coupling.stiffness.into());
-        figures.insert("coupling_builds".into(), r.coupling.builds.into());
+        out,
+    })
+}
+
+impl Live for BlastRun {
+    type S = Blast;
+
+    fn parts(&mut self) -> (&mut Blast, &mut Stepper, Vec<&mut dyn Observer<Blast>>) {
+        (&mut self.sim, &mut self.stepper, self.watchers.list())
     }
-    if let Some(m) = ring_models {
-        figures.insert("models".into(), m);
+
+    fn history(&self) -> &History {
+        &self.watchers.history.history
     }
-    if let Some(l) = ledger::figures(&history.history) {
-        figures.insert("energy_ledger".into(), l);
-    }
-    if let Some(d) = &dispersal {
-        figures.insert("dispersal_analysed".into(), d.analysed().into());
-        figures.insert("dispersal_wall_time_s".into(), d.seconds().into());
-    }
-    let mut outcome = outcome;
-    outcome.report = merge(outcome.report, figures, checks, &outcome.status);
-    let figure = |v: Option<&serde_json::Value>| v.and_then(|v| v.as_f64());
-    let fig = &outcome.report.figures;
-    let levels: Vec<(&str, f64)> = [
-        ("paper, FEM-DEM", probes::band_reference(s)),
-        ("classic Gurney", figure(fig.get("gurney_velocity"))),
-        (
-            "Milne porous Gurney (reconstructed)",
-            figure(
-                fig.get("models")
-                    .map(|m| &m["milne_porous_gurney"]["velocity"]),
+
+    fn conclude(&mut self, outcome: Outcome, threads: usize) -> Result<Finished, RunError> {
+        let (sim, s, out) = (&self.sim, &*self.scenario, &self.out);
+        let history = &self.watchers.history;
+        let dispersal = &self.watchers.dispersal;
+        let charge_mass = self.charge_mass;
+        let ring_mass: Option<f64> = sim.ring.as_ref().map(|r| {
+            let p = &r.state.particles;
+            (0..p.len()).map(|i| p.mass(i)).sum()
+        });
+        let ring_models = ring_mass.and_then(|mass| models::figures(s, mass, sim.charge.time));
+        let ctx = probes::Context {
+            scn: s,
+            fem: &sim.fem,
+            charge: &sim.charge,
+            e0: sim.e0,
+            history: &history.history,
+            charge_mass,
+            ring_mass,
+            dispersal: outcome.report.figures.get("dispersal"),
+            models: ring_models.as_ref(),
+        };
+        let (checks, mut figures, arrival) = probes::evaluate(&ctx);
+        figures.insert("max_penetration_ratio".into(), sim.max_penetration.into());
+        figures.insert("dt_min".into(), sim.dt_range.0.into());
+        figures.insert("dt_max".into(), sim.dt_range.1.into());
+        figures.insert("charge_elements".into(), sim.charge.n_elems().into());
+        if let Some(r) = &sim.ring {
+            figures.insert("coupling_stiffness".into(), r.coupling.stiffness.into());
+            figures.insert("coupling_builds".into(), r.coupling.builds.into());
+        }
+        if let Some(m) = ring_models {
+            figures.insert("models".into(), m);
+        }
+        if let Some(l) = ledger::figures(&history.history) {
+            figures.insert("energy_ledger".into(), l);
+        }
+        if let Some(d) = &dispersal {
+            figures.insert("dispersal_analysed".into(), d.analysed().into());
+            figures.insert("dispersal_wall_time_s".into(), d.seconds().into());
+        }
+        let mut outcome = outcome;
+        outcome.report = merge(outcome.report, figures, checks, &outcome.status);
+        let figure = |v: Option<&serde_json::Value>| v.and_then(|v| v.as_f64());
+        let fig = &outcome.report.figures;
+        let levels: Vec<(&str, f64)> = [
+            ("paper, FEM-DEM", probes::band_reference(s)),
+            ("classic Gurney", figure(fig.get("gurney_velocity"))),
+            (
+                "Milne porous Gurney (reconstructed)",
+                figure(
+                    fig.get("models")
+                        .map(|m| &m["milne_porous_gurney"]["velocity"]),
+                ),
             ),
-        ),
-    ]
-    .into_iter()
-    .filter_map(|(name, v)| Some((name, v?)))
-    .collect();
-    plots::write_all(
-        &out.join("plots"),
-        &history.history,
-        sim.ring.is_some(),
-        &arrival,
-        &levels,
-    )?;
-    ledger::plot(&out.join("plots"), &history.history)?;
-    let mut counts = serde_json::Map::new();
-    counts.insert(
-        "neighbour_builds".into(),
-        sim.ring
-            .as_ref()
-            .map_or(0, |r| r.state.contacts.builds)
-            .into(),
-    );
-    if let Some(r) = &sim.ring {
-        // The particles' own fingerprint, comparable with a DEM run's.
+        ]
+        .into_iter()
+        .filter_map(|(name, v)| Some((name, v?)))
+        .collect();
+        plots::write_all(
+            &out.join("plots"),
+            &history.history,
+            sim.ring.is_some(),
+            &arrival,
+            &levels,
+        )?;
+        ledger::plot(&out.join("plots"), &history.history)?;
+        let mut counts = serde_json::Map::new();
         counts.insert(
-            "ring_state_hash".into(),
-            format!("{:016x}", grains_dem::diagnostics::state_hash(&r.state)).into(),
+            "neighbour_builds".into(),
+            sim.ring
+                .as_ref()
+                .map_or(0, |r| r.state.contacts.builds)
+                .into(),
         );
+        if let Some(r) = &sim.ring {
+            // The particles' own fingerprint, comparable with a DEM run's.
+            counts.insert(
+                "ring_state_hash".into(),
+                format!("{:016x}", grains_dem::diagnostics::state_hash(&r.state)).into(),
+            );
+        }
+        let dt_critical = match &sim.ring {
+            Some(_) => sim.dt_particles,
+            None => sim.charge.dt_stable,
+        };
+        let costs = Costs {
+            dt: sim.dt,
+            dt_critical,
+            threads,
+            frames: self.watchers.frames.count(),
+        };
+        let mut sum = summary(&s.name, "fem_dem", sim, &outcome, costs, counts);
+        if matches!(outcome.status, Status::Paused | Status::Interrupted) {
+            sum.message = Some(resume_hint(outcome.clock.step, out));
+        }
+        finish(sum, outcome.status, out)
     }
-    let dt_critical = match &sim.ring {
-        Some(_) => sim.dt_particles,
-        None => sim.charge.dt_stable,
-    };
-    let costs = Costs {
-        dt: sim.dt,
-        dt_critical,
-        threads: opts.threads,
-        frames: frames.count(),
-    };
-    let mut sum = summary(&s.name, "fem_dem", &sim, &outcome, costs, counts);
-    if matches!(outcome.status, Status::Paused | Status::Interrupted) {
-        sum.message = Some(format!(
-            "stopped at step {} with a checkpoint; continue with `grains resume {}`",
-            outcome.clock.step,
-            out.display()
-        ));
-    }
-    finish(sum, outcome.status, &out)
 }
 
 /// The end-of-run checks and figures, after the loop's own.

@@ -15,10 +15,11 @@ pub mod scenario;
 
 use crate::dispersal::{Dispersing, Frame};
 use crate::driver::{Clock, ParticleView, Simulation};
+use crate::forces::{Hook, Outside};
 use crate::output::Capabilities;
 use grains_core::input::InputError;
 use grains_dem::diagnostics::{self, Diagnostics};
-use grains_dem::{step, Setup, State};
+use grains_dem::{step, step_with, Setup, State};
 use std::borrow::Cow;
 
 /// What a DEM run writes, and its defaults.
@@ -45,6 +46,8 @@ pub struct Dem {
     pub dt: f64,
     /// Also write a LAMMPS dump with every frame.
     pub lammps_dump: bool,
+    /// Forces from outside the particle system (none in a scenario run).
+    pub outside: Outside,
 }
 
 impl Dem {
@@ -69,6 +72,7 @@ impl Dem {
             state,
             dt: a.dt,
             lammps_dump,
+            outside: Outside::default(),
         })
     }
 
@@ -79,6 +83,7 @@ impl Dem {
             state,
             dt,
             lammps_dump,
+            outside: Outside::default(),
         }
     }
 }
@@ -94,7 +99,15 @@ impl Simulation for Dem {
     }
 
     fn advance(&mut self) -> Result<(), String> {
-        step(&self.setup, &mut self.state, self.dt);
+        if self.outside.is_empty() {
+            step(&self.setup, &mut self.state, self.dt);
+        } else {
+            let mut hook = Hook {
+                outside: &mut self.outside,
+                time: self.state.time + self.dt,
+            };
+            step_with(&self.setup, &mut self.state, self.dt, &mut hook);
+        }
         Ok(())
     }
 

@@ -9,13 +9,18 @@ use super::scenario::Scenario;
 use super::{plots, Dem, CAPABILITIES};
 use crate::checkpoint;
 use crate::dispersal::DispersalObserver;
-use crate::driver::{restore_observers, Counters, Every, Observer, Report, Status};
+use crate::driver::{
+    restore_observers, Counters, Every, Observer, Outcome, Report, Status, Stepper,
+};
 use crate::frames::{FrameRecorder, Snapshots};
 use crate::history::HistoryRecorder;
-use crate::run::{drive, finish, fresh_out, summary, Costs, Finished, RunError, RunOptions};
+use crate::run::{
+    finish, fresh_out, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions,
+};
 use crate::source::Source;
+use grains_core::history::History;
 use grains_dem::State;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A checkpoint read back: the run loop's progress and the engine state.
 pub type Resume = checkpoint::Resumed<State>;
@@ -37,13 +42,52 @@ pub fn load_checkpoint(s: &Scenario, src: &Source, dir: &Path) -> Result<Resume,
     Ok(Resume { progress, state })
 }
 
-/// Runs `s` (read from `src`) into `opts.out`, or continues it from `resume`.
-pub fn run(
+/// A DEM run in progress: the simulation, the loop and every observer of `grains run`,
+/// writing into its output directory as it goes.
+pub struct DemRun {
+    /// The simulation.
+    pub sim: Dem,
+    stepper: Stepper,
+    watchers: Watchers,
+    name: String,
+    out: PathBuf,
+    dt_critical: f64,
+}
+
+struct Watchers {
+    history: HistoryRecorder,
+    frames: FrameRecorder,
+    snaps: Snapshots,
+    rest: Option<RestDetector>,
+    checks: CheckObserver,
+    ends: Figures,
+    dispersal: Option<DispersalObserver>,
+}
+
+impl Watchers {
+    fn list(&mut self) -> Vec<&mut dyn Observer<Dem>> {
+        let mut o: Vec<&mut dyn Observer<Dem>> =
+            vec![&mut self.history, &mut self.frames, &mut self.snaps];
+        if let Some(r) = self.rest.as_mut() {
+            o.push(r);
+        }
+        o.push(&mut self.checks);
+        o.push(&mut self.ends);
+        if let Some(d) = self.dispersal.as_mut() {
+            o.push(d);
+        }
+        o
+    }
+}
+
+/// Prepares the run of `s` (read from `src`) into `opts.out`, or its continuation from
+/// `resume`: assembled, its output directory started, its first frame written.
+pub fn open(
     s: &Scenario,
     src: &Source,
-    mut opts: RunOptions,
+    opts: &mut RunOptions,
     resume: Option<Resume>,
-) -> Result<Finished, RunError> {
+) -> Result<DemRun, RunError> {
     let input = |e: grains_core::input::InputError| RunError::Input(format!("{}: {e}", src.origin));
     let out = opts.out.clone();
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
@@ -91,7 +135,7 @@ pub fn run(
         Every::Steps(k) => k,
         Every::Time(_) => 1,
     };
-    let (mut history, mut frames, counters) = match &resume {
+    let (history, frames, counters) = match &resume {
         None => {
             fresh_out(&out, &src.text)?;
             let history = HistoryRecorder::create(&out, &mut sim)?;
@@ -106,69 +150,95 @@ pub fn run(
             (history, frames, c)
         }
     };
-    let mut checks = CheckObserver::new(&sim, &s.checks);
-    let mut rest = s.run.stop_kinetic_ratio.map(|ratio| {
+    let checks = CheckObserver::new(&sim, &s.checks);
+    let rest = s.run.stop_kinetic_ratio.map(|ratio| {
         let hold = s.run.stop_rest_time.unwrap_or(20.0 * every as f64 * sim.dt);
         RestDetector::new(&sim, ratio, hold)
     });
-    let mut ends = Figures { scenario: s };
     // On a resumed run the analysis covers the new segment; `grains analyze RUN_DIR`
     // covers every frame.
-    let mut dispersal = s.dispersal.as_ref().map(|d| {
+    let dispersal = s.dispersal.as_ref().map(|d| {
         plan.snapshots.extend(&d.times);
         plan.snapshots.sort_by(f64::total_cmp);
         plan.snapshots.dedup();
         let centre = glam::DVec2::from(d.centre.unwrap_or_default());
         DispersalObserver::new(&s.name, d, centre, s.run.duration, &out)
     });
-    let mut snaps = Snapshots {
-        dir: out.join("plots"),
+    let mut watchers = Watchers {
+        history,
+        frames,
+        snaps: Snapshots {
+            dir: out.join("plots"),
+        },
+        rest,
+        checks,
+        ends: Figures {
+            scenario: s.clone(),
+        },
+        dispersal,
     };
-    let mut observers: Vec<&mut dyn Observer<Dem>> = vec![&mut history, &mut frames, &mut snaps];
-    if let Some(r) = rest.as_mut() {
-        observers.push(r);
-    }
-    observers.push(&mut checks);
-    observers.push(&mut ends);
-    if let Some(d) = dispersal.as_mut() {
-        observers.push(d);
-    }
+    let mut observers = watchers.list();
     if let Some(r) = &resume {
         restore_observers(&mut observers, &r.progress.observers)?;
     }
-    let outcome = drive(&mut sim, &mut observers, &plan, &mut opts, src, counters)?;
+    let stepper = Stepper::start(&sim, &mut observers, plan, counters)?;
     drop(observers);
-    plots::write_all(&out.join("plots"), &history.history, &sim.setup, &sim.state)?;
-    let mut counts = serde_json::Map::new();
-    counts.insert("neighbour_builds".into(), sim.state.contacts.builds.into());
-    let costs = Costs {
-        dt: sim.dt,
+    Ok(DemRun {
+        sim,
+        stepper,
+        watchers,
+        name: s.name.clone(),
+        out,
         dt_critical,
-        threads: opts.threads,
-        frames: frames.count(),
-    };
-    let mut sum = summary(&s.name, "dem", &sim, &outcome, costs, counts);
-    if matches!(outcome.status, Status::Paused | Status::Interrupted) {
-        sum.message = Some(format!(
-            "stopped at step {} with a checkpoint; continue with `grains resume {}`",
-            outcome.clock.step,
-            out.display()
-        ));
+    })
+}
+
+impl Live for DemRun {
+    type S = Dem;
+
+    fn parts(&mut self) -> (&mut Dem, &mut Stepper, Vec<&mut dyn Observer<Dem>>) {
+        (&mut self.sim, &mut self.stepper, self.watchers.list())
     }
-    finish(sum, outcome.status, &out)
+
+    fn history(&self) -> &History {
+        &self.watchers.history.history
+    }
+
+    fn conclude(&mut self, outcome: Outcome, threads: usize) -> Result<Finished, RunError> {
+        let (sim, out) = (&self.sim, &self.out);
+        plots::write_all(
+            &out.join("plots"),
+            &self.watchers.history.history,
+            &sim.setup,
+            &sim.state,
+        )?;
+        let mut counts = serde_json::Map::new();
+        counts.insert("neighbour_builds".into(), sim.state.contacts.builds.into());
+        let costs = Costs {
+            dt: sim.dt,
+            dt_critical: self.dt_critical,
+            threads,
+            frames: self.watchers.frames.count(),
+        };
+        let mut sum = summary(&self.name, "dem", sim, &outcome, costs, counts);
+        if matches!(outcome.status, Status::Paused | Status::Interrupted) {
+            sum.message = Some(resume_hint(outcome.clock.step, out));
+        }
+        finish(sum, outcome.status, out)
+    }
 }
 
 /// The scenario's figures at the end of a run.
-struct Figures<'a> {
-    scenario: &'a Scenario,
+struct Figures {
+    scenario: Scenario,
 }
 
-impl Observer<Dem> for Figures<'_> {
+impl Observer<Dem> for Figures {
     fn on_end(&mut self, sim: &Dem, _status: &Status, report: &mut Report) -> anyhow::Result<()> {
         let d = grains_dem::diagnostics::measure(&sim.setup, &sim.state);
         report
             .figures
-            .extend(figures(self.scenario, &sim.setup, &sim.state, &d));
+            .extend(figures(&self.scenario, &sim.setup, &sim.state, &d));
         Ok(())
     }
 }

@@ -5,13 +5,14 @@ use super::assemble::{assemble, Assembled};
 use super::scenario::{CheckSpec, Scenario};
 use super::watch::Watch;
 use super::{plots, Mpm, MpmSample, CAPABILITIES};
-use crate::driver::{self, Counters, Observer, Plan, Silent};
+use crate::driver::{self, Counters, Observer, Outcome, Plan, Silent, Stepper};
 use crate::frames::FrameRecorder;
 use crate::history::{HistoryRecorder, Recorded};
-use crate::run::{drive, finish, fresh_out, summary, Costs, Finished, RunError, RunOptions};
+use crate::run::{finish, fresh_out, summary, Costs, Finished, Live, RunError, RunOptions};
 use crate::source::Source;
+use grains_core::history::History;
 use grains_mpm::{Material, Setup};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A per-body history column beyond the kinematics, written only where it means
 /// something.
@@ -216,8 +217,24 @@ pub fn prepare(s: &Scenario, src: &Source) -> Result<Assembled, String> {
     Ok(a)
 }
 
-/// Runs `s` (read from `src`) into `opts.out`.
-pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished, RunError> {
+/// An MPM run in progress: the simulation, the loop and every observer of `grains run`,
+/// writing into its output directory as it goes.
+pub struct MpmRun {
+    /// The simulation.
+    pub sim: Mpm,
+    stepper: Stepper,
+    history: HistoryRecorder,
+    frames: FrameRecorder,
+    watch: Watch,
+    scenario: Scenario,
+    geometry: Vec<grains_mpm::Geometry>,
+    dt_critical: f64,
+    out: PathBuf,
+}
+
+/// Prepares the run of `s` (read from `src`) into `opts.out`: assembled, its output
+/// directory started, its first frame written.
+pub fn open(s: &Scenario, src: &Source, opts: &mut RunOptions) -> Result<MpmRun, RunError> {
     let s = &super::packing::expanded(s, src).map_err(RunError::Input)?;
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
     let a = prepare(s, src).map_err(RunError::Input)?;
@@ -255,46 +272,70 @@ pub fn run(s: &Scenario, src: &Source, mut opts: RunOptions) -> Result<Finished,
     let mut frames = FrameRecorder::create(&out, &sim).map_err(anyhow::Error::from)?;
     let mut watch = Watch::new(&sim, &a, s, src.base.clone(), &first, true);
     let plan = s.output.plan_by_steps(&CAPABILITIES, a.steps);
-    let outcome = {
+    let stepper = {
         let mut observers: Vec<&mut dyn Observer<Mpm>> =
             vec![&mut history, &mut frames, &mut watch];
-        drive(
-            &mut sim,
-            &mut observers,
-            &plan,
-            &mut opts,
-            src,
-            Counters::fresh(&plan),
-        )?
+        Stepper::start(&sim, &mut observers, plan.clone(), Counters::fresh(&plan))?
     };
-    let pitch = sim.setup.grid.h * sim.setup.half_width;
-    let dir = out.join("plots");
-    plots::write_all(
-        &dir,
-        &history.history,
-        &sim.setup,
-        watch.snapshots.as_deref().unwrap_or_default(),
-        pitch,
-    )?;
-    plots::write_curves(&dir, &watch.response.curves(&sim, &s.checks))?;
-    if let Some(d) = &watch.debond {
-        plots::write_curves(&dir, &d.curves(&sim, &watch.record))?;
-        plots::bond_maps(&dir, &d.snapshots, &a.geometry, pitch)?;
-    }
-    if let Some(c) = &watch.cell {
-        plots::write_curves(&dir, &c.curves(&watch.record.samples))?;
-        plots::maps(&dir, &c.maps, pitch)?;
-    }
-    let mut counts = serde_json::Map::new();
-    counts.insert("bodies".into(), sim.setup.bodies.len().into());
-    let costs = Costs {
-        dt: sim.dt,
+    Ok(MpmRun {
+        sim,
+        stepper,
+        history,
+        frames,
+        watch,
+        scenario: s.clone(),
+        geometry: a.geometry.clone(),
         dt_critical: a.dt_critical,
-        threads: opts.threads,
-        frames: frames.count(),
-    };
-    let sum = summary(&s.name, "mpm", &sim, &outcome, costs, counts);
-    finish(sum, outcome.status, &out)
+        out,
+    })
+}
+
+impl Live for MpmRun {
+    type S = Mpm;
+
+    fn parts(&mut self) -> (&mut Mpm, &mut Stepper, Vec<&mut dyn Observer<Mpm>>) {
+        (
+            &mut self.sim,
+            &mut self.stepper,
+            vec![&mut self.history, &mut self.frames, &mut self.watch],
+        )
+    }
+
+    fn history(&self) -> &History {
+        &self.history.history
+    }
+
+    fn conclude(&mut self, outcome: Outcome, threads: usize) -> Result<Finished, RunError> {
+        let (sim, s, watch, out) = (&self.sim, &self.scenario, &self.watch, &self.out);
+        let pitch = sim.setup.grid.h * sim.setup.half_width;
+        let dir = out.join("plots");
+        plots::write_all(
+            &dir,
+            &self.history.history,
+            &sim.setup,
+            watch.snapshots.as_deref().unwrap_or_default(),
+            pitch,
+        )?;
+        plots::write_curves(&dir, &watch.response.curves(sim, &s.checks))?;
+        if let Some(d) = &watch.debond {
+            plots::write_curves(&dir, &d.curves(sim, &watch.record))?;
+            plots::bond_maps(&dir, &d.snapshots, &self.geometry, pitch)?;
+        }
+        if let Some(c) = &watch.cell {
+            plots::write_curves(&dir, &c.curves(&watch.record.samples))?;
+            plots::maps(&dir, &c.maps, pitch)?;
+        }
+        let mut counts = serde_json::Map::new();
+        counts.insert("bodies".into(), sim.setup.bodies.len().into());
+        let costs = Costs {
+            dt: sim.dt,
+            dt_critical: self.dt_critical,
+            threads,
+            frames: self.frames.count(),
+        };
+        let sum = summary(&s.name, "mpm", sim, &outcome, costs, counts);
+        finish(sum, outcome.status, out)
+    }
 }
 
 /// A reference scenario's energy loss after impact `k` of body `body`, from a run

@@ -18,7 +18,7 @@ use grains_mpm::{Geometry, Motion, State};
 use std::path::PathBuf;
 
 /// The body watch.
-pub struct Watch<'a> {
+pub struct Watch {
     /// Impacts and samples.
     pub record: Record,
     /// Point snapshots for the plots, by file name (none for a reference run).
@@ -32,7 +32,7 @@ pub struct Watch<'a> {
     /// The bodies' shapes as filled.
     shapes: Vec<Geometry>,
     /// The scenario (its checks and shapes).
-    scenario: &'a Scenario,
+    scenario: Scenario,
     /// Where reference scenarios are read from.
     base: PathBuf,
     /// Exact initial energy and momentum of the free bodies' shapes.
@@ -60,13 +60,13 @@ fn keep_peak(list: &mut Vec<(String, Snapshot)>, file: String, s: &State, strain
     }
 }
 
-impl<'a> Watch<'a> {
+impl Watch {
     /// The watch of `sim` for `scenario` (relative paths from `base`); `snapshots`: keep
     /// point snapshots for plots. `first` is the run's first sample.
     pub fn new(
         sim: &Mpm,
         a: &super::assemble::Assembled,
-        scenario: &'a Scenario,
+        scenario: &Scenario,
         base: PathBuf,
         first: &MpmSample,
         snapshots: bool,
@@ -103,7 +103,7 @@ impl<'a> Watch<'a> {
             shapes: a.geometry.clone(),
             snapshots: snapshots
                 .then(|| vec![("points_initial.png".into(), snapshot(&sim.state, 0.0, 0.0))]),
-            scenario,
+            scenario: scenario.clone(),
             base,
             exact,
             initial: (
@@ -248,7 +248,7 @@ impl<'a> Watch<'a> {
     }
 }
 
-impl Observer<Mpm> for Watch<'_> {
+impl Observer<Mpm> for Watch {
     fn on_step(&mut self, sim: &Mpm) {
         self.record.step(
             sim.state.step,
