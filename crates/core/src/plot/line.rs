@@ -13,10 +13,6 @@ use crate::atomic::write_atomic_via_path;
 /// scaled down in a report.
 const SIZE: (u32, u32) = (1200, 750);
 
-/// The plotting area inside [`SIZE`] in pixels, about: less the margins (20 each
-/// side), the caption (about 45), the x label area (70) and the y label area (110).
-const PLOT_AREA: (f64, f64) = (1050.0, 595.0);
-
 /// One named curve; `x` and `y` must have the same length.
 #[derive(Clone, Copy, Debug)]
 pub struct Series<'a> {
