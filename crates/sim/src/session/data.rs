@@ -132,18 +132,7 @@ impl Contacts {
                 let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
                 let spin = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
                 let v = p.vel[i] - p.vel[j];
-                let f = contact_law(
-                    pp,
-                    m_eff,
-                    n.x,
-                    n.y,
-                    overlap,
-                    v.x,
-                    v.y,
-                    spin,
-                    list.shear[e],
-                    0.0,
-                );
+                let f = contact_law(pp, m_eff, n, overlap, v, spin, list.shear[e], 0.0);
                 c.i.push(p.id[i]);
                 c.j.push(p.id[j]);
                 c.overlap.push(overlap);
