@@ -211,3 +211,21 @@ fn analyze_times_outside_the_run_are_refused() {
         .unwrap()
         .contains("frame spacing"));
 }
+
+/// An output file that cannot be written is named, once, in the one error line.
+#[test]
+fn a_write_error_names_its_path() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("out/history.csv")).unwrap();
+    std::fs::write(dir.path().join("s.toml"), BASE).unwrap();
+    let o = grains_in(Some(dir.path()), &["run", "s.toml", "--out", "out"]);
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    let errors: Vec<&str> = o.stderr.lines().filter(|l| l.contains("error")).collect();
+    assert_eq!(errors.len(), 1, "{}", o.stderr);
+    assert_eq!(
+        errors[0].matches("out/history.csv").count(),
+        1,
+        "{}",
+        errors[0]
+    );
+}
