@@ -229,3 +229,25 @@ fn a_write_error_names_its_path() {
         errors[0]
     );
 }
+
+/// A FEM–DEM run of days is announced by `run` with its figure, as by `check` (paused
+/// at its first step here).
+#[test]
+fn a_run_of_days_is_announced() {
+    let text = std::fs::read_to_string(example("xue2019/ring_small.toml"))
+        .unwrap()
+        .replace("duration = 40.0e-6", "duration = 10.0")
+        .replace("every = 0.5e-6", "every = 1.0e-3");
+    let (o, _dir) = run_text(&text, &[], &["--stop-at-step", "1"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let warning = o
+        .stderr
+        .lines()
+        .find(|l| l.contains("warning"))
+        .unwrap_or("");
+    assert!(
+        warning.contains("steps, about") && warning.contains("days"),
+        "{}",
+        o.stderr
+    );
+}
