@@ -211,3 +211,43 @@ fn analyze_times_outside_the_run_are_refused() {
         .unwrap()
         .contains("frame spacing"));
 }
+
+/// An output file that cannot be written is named, once, in the one error line.
+#[test]
+fn a_write_error_names_its_path() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("out/history.csv")).unwrap();
+    std::fs::write(dir.path().join("s.toml"), BASE).unwrap();
+    let o = grains_in(Some(dir.path()), &["run", "s.toml", "--out", "out"]);
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    let errors: Vec<&str> = o.stderr.lines().filter(|l| l.contains("error")).collect();
+    assert_eq!(errors.len(), 1, "{}", o.stderr);
+    assert_eq!(
+        errors[0].matches("out/history.csv").count(),
+        1,
+        "{}",
+        errors[0]
+    );
+}
+
+/// A FEM–DEM run of days is announced by `run` with its figure, as by `check` (paused
+/// at its first step here).
+#[test]
+fn a_run_of_days_is_announced() {
+    let text = std::fs::read_to_string(example("xue2019/ring_small.toml"))
+        .unwrap()
+        .replace("duration = 40.0e-6", "duration = 10.0")
+        .replace("every = 0.5e-6", "every = 1.0e-3");
+    let (o, _dir) = run_text(&text, &[], &["--stop-at-step", "1"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let warning = o
+        .stderr
+        .lines()
+        .find(|l| l.contains("warning"))
+        .unwrap_or("");
+    assert!(
+        warning.contains("steps, about") && warning.contains("days"),
+        "{}",
+        o.stderr
+    );
+}

@@ -27,7 +27,7 @@ pub fn analyze(file: &Path, out: &Path) -> Result<Map<String, Value>, String> {
         &out.join("analysis.json"),
         &Value::Object(figures.clone()),
     )
-    .map_err(|e| format!("cannot write {}: {e}", out.join("analysis.json").display()))?;
+    .map_err(|e| e.to_string())?;
     Ok(figures)
 }
 

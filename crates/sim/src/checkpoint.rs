@@ -67,7 +67,9 @@ pub fn save(
     progress: &Progress,
 ) -> anyhow::Result<()> {
     // TOML rather than JSON: the recorders hold NaN and infinities, which TOML keeps.
-    let meta = toml::to_string(progress)?.into_bytes();
+    let meta = toml::to_string(progress)
+        .map_err(|e| anyhow::anyhow!("cannot write {}: the run's progress: {e}", path.display()))?
+        .into_bytes();
     let mut head = Vec::with_capacity(28 + meta.len());
     head.extend_from_slice(MAGIC);
     head.extend_from_slice(&VERSION.to_le_bytes());

@@ -12,7 +12,6 @@
 //! finished gets its last frame, and every observer reports.
 
 use crate::checkpoint::{self, Progress as SavedProgress};
-use anyhow::Context as _;
 use glam::DVec2;
 use grains_core::checks::Check;
 use serde::{Deserialize, Serialize};
@@ -568,8 +567,8 @@ fn save_checkpoint<S: Simulation>(
         }
     }
     let path = dir.join(checkpoint::FILE);
-    checkpoint::save(&path, control.scenario_text, &state, &saved)
-        .with_context(|| format!("cannot write {}", path.display()))?;
+    // Its errors name the path.
+    checkpoint::save(&path, control.scenario_text, &state, &saved)?;
     Ok(true)
 }
 

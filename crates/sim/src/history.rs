@@ -55,9 +55,8 @@ fn open<S: Recorded>(path: &Path, sim: &S) -> anyhow::Result<History> {
     let names: Vec<&str> = columns.iter().map(String::as_str).collect();
     let integer = sim.integer_columns();
     let integer: Vec<&str> = integer.iter().map(String::as_str).collect();
-    Ok(History::create(path, &names)
-        .with_context(|| format!("cannot create {}", path.display()))?
-        .integer_columns(&integer))
+    // The error names the path already.
+    Ok(History::create(path, &names)?.integer_columns(&integer))
 }
 
 impl<S: Recorded> Observer<S> for HistoryRecorder {

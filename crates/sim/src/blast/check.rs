@@ -293,14 +293,12 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
                 .push(fill_to_burster_check(fb, expected, tolerance, paper));
         }
     }
-    let elements = a.mesh.tris.len() as u64;
-    let work = n + elements / ELEMENTS_PER_PARTICLE;
-    d.cost(&Estimate::new(
-        work,
-        steps,
-        memory(n, elements),
-        rate::FEM_DEM,
-        threads,
-    ));
+    d.cost(&cost(n, a.mesh.tris.len() as u64, steps, threads));
     Ok(d)
+}
+
+/// What a run of `n` particles and `elements` triangles over `steps` steps costs.
+pub fn cost(n: u64, elements: u64, steps: u64, threads: usize) -> Estimate {
+    let work = n + elements / ELEMENTS_PER_PARTICLE;
+    Estimate::new(work, steps, memory(n, elements), rate::FEM_DEM, threads)
 }

@@ -199,6 +199,12 @@ pub fn open(
         opts.threads,
         out.display()
     ));
+    let steps = (s.run.duration / super::check::dt_initial(s, &a)).ceil() as u64;
+    let n = a.ring.as_ref().map_or(0, |r| r.particles.len()) as u64;
+    let e = super::check::cost(n, a.mesh.tris.len() as u64, steps, opts.threads);
+    if let Some(w) = e.warning() {
+        opts.progress.announce(&format!("warning: {w}"));
+    }
     let mut sim = Blast::new(s, a);
     let (history, frames, counters) = match &resume {
         None => {

@@ -88,14 +88,23 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
             break;
         }
         let (data, idle) = loaded_walls(setup, |w| col(&format!("{w}_{c}")));
-        let title = if idle.is_empty() {
-            format!("Force of the particles on each wall, along {axis}")
+        // Each sample is one instant of impacts; a running mean shows each wall's load
+        // instead of six sets of spikes over one another (history.csv keeps the samples).
+        let window = (t.len() / 50).max(1);
+        let data: Vec<(&str, Vec<f64>)> = data
+            .into_iter()
+            .map(|(k, v)| (k, running_mean(&v, window)))
+            .collect();
+        let span = t.last().copied().unwrap_or(0.0) - t.first().copied().unwrap_or(0.0);
+        let mean_over = span * window as f64 / t.len().max(1) as f64;
+        let idle_note = if idle.is_empty() {
+            String::new()
         } else {
-            format!(
-                "Force of the particles on each wall, along {axis} (zero throughout: {})",
-                idle.join(", ")
-            )
+            format!("; zero throughout: {}", idle.join(", "))
         };
+        let title = format!(
+            "Force of the particles on each wall along {axis}, mean over {mean_over:.2e} s{idle_note}"
+        );
         LinePlot {
             title: &title,
             x_label: "time (s)",
@@ -114,6 +123,31 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
         .write_png_and_csv(&dir.join(format!("wall_forces_{axis}.png")))?;
     }
     Ok(())
+}
+
+/// The centred running mean of `v` over `window` samples (fewer at the ends), skipping
+/// non-finite samples.
+fn running_mean(v: &[f64], window: usize) -> Vec<f64> {
+    let half = window / 2;
+    // Prefix sums of the finite samples and of their count: O(n) for any window.
+    let mut sum = vec![0.0; v.len() + 1];
+    let mut count = vec![0usize; v.len() + 1];
+    for (i, x) in v.iter().enumerate() {
+        let ok = x.is_finite();
+        sum[i + 1] = sum[i] + if ok { *x } else { 0.0 };
+        count[i + 1] = count[i] + usize::from(ok);
+    }
+    (0..v.len())
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(half), (i + half + 1).min(v.len()));
+            let n = count[b] - count[a];
+            if n > 0 {
+                (sum[b] - sum[a]) / n as f64
+            } else {
+                f64::NAN
+            }
+        })
+        .collect()
 }
 
 /// The walls' force series worth drawing, the smallest mean load first so that the

@@ -143,7 +143,7 @@ pub fn analyze_run(
     figures.insert("wall_time_s".into(), json!(started.elapsed().as_secs_f64()));
     let path = out.join("analysis.json");
     grains_core::json::write_json_pretty(&path, &Value::Object(figures.clone()))
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        .map_err(|e| e.to_string())?;
     Ok(figures)
 }
 
