@@ -21,8 +21,11 @@ def test_unknown_key_is_an_input_error_naming_it(data):
 
 def test_wrong_type_is_an_input_error_naming_the_key(data):
     text = (data / "column_tiny.toml").read_text().replace("duration = 0.02", 'duration = "long"')
-    # As the command line says it: where, and what was expected.
-    with pytest.raises(grains.InputError, match=r"line \d+, column \d+: invalid type: string \"long\", expected f64"):
+    # As the command line says it: where, the line (so the key), and what was expected.
+    with pytest.raises(
+        grains.InputError,
+        match=r"line \d+, column \d+ \(duration = \"long\"\): invalid type: string \"long\", expected f64",
+    ):
         grains.Simulation.from_toml(text)
 
 
