@@ -222,12 +222,7 @@ fn replay(name: &str) -> (f64, f64) {
             }
         })
         .collect();
-    let mut scale = [0.0f64; 5];
-    for row in &table {
-        for (s, f) in scale.iter_mut().zip(fields(row)) {
-            *s = f.iter().fold(*s, |m, v| m.max(v.abs()));
-        }
-    }
+    let scale = scales(&table);
     let history = csv(dir().join("tables").join(format!("{name}.history.csv")));
     let hscale = history
         .iter()
@@ -335,32 +330,45 @@ fn engine(name: &str) -> f64 {
         p.inv_mass[i] = 1.0 / m;
         p.inv_inertia[i] = 1.0 / (d.inertia * m * r * r);
     }
-    let mut scale = [0.0f64; 5];
-    for row in &table {
-        for (s, f) in scale.iter_mut().zip(fields(row)) {
-            *s = f.iter().fold(*s, |m, v| m.max(v.abs()));
-        }
-    }
+    let scale = scales(&table);
     let mut st = State::new(&setup, p);
     let mut worst = 0.0f64;
     for n in 0..=d.steps {
         if n > 0 {
             step(&setup, &mut st, d.dt);
         }
-        let p = &st.particles;
-        for row in table.iter().filter(|r| r[0] == n as f64) {
-            let i = p.id.iter().position(|&k| k as f64 == row[1] - 1.0).unwrap();
-            let ours = [
-                Vector::flatten(&[p.pos[i]]),
-                Vector::flatten(&[p.vel[i]]),
-                AngVector::flatten(&[p.omega[i]]),
-                Vector::flatten(&[p.force[i]]),
-                AngVector::flatten(&[p.torque[i]]),
-            ];
-            for ((o, l), s) in ours.iter().zip(fields(row)).zip(scale) {
-                for (x, y) in o.iter().zip(&l) {
-                    worst = worst.max((x - y).abs() / s);
-                }
+        worst = worst.max(deviation(&st.particles, &table, n, &scale));
+    }
+    worst
+}
+
+/// Each field's largest magnitude over a table (x, v, ω, f, τ).
+fn scales(table: &[Vec<f64>]) -> [f64; 5] {
+    let mut scale = [0.0f64; 5];
+    for row in table {
+        for (s, f) in scale.iter_mut().zip(fields(row)) {
+            *s = f.iter().fold(*s, |m, v| m.max(v.abs()));
+        }
+    }
+    scale
+}
+
+/// The largest difference between the engine's particles and the table's rows of step
+/// `n` (atoms by id, from 1), relative to each field's `scale`.
+fn deviation(p: &dem::Particles, table: &[Vec<f64>], n: usize, scale: &[f64; 5]) -> f64 {
+    let mut worst = 0.0f64;
+    for row in table.iter().filter(|r| r[0] == n as f64) {
+        let i = p.id.iter().position(|&k| k as f64 == row[1] - 1.0).unwrap();
+        let ours = [
+            Vector::flatten(&[p.pos[i]]),
+            Vector::flatten(&[p.vel[i]]),
+            AngVector::flatten(&[p.omega[i]]),
+            Vector::flatten(&[p.force[i]]),
+            AngVector::flatten(&[p.torque[i]]),
+        ];
+        for ((o, l), s) in ours.iter().zip(fields(row)).zip(scale) {
+            for (x, y) in o.iter().zip(&l) {
+                worst = worst.max((x - y).abs() / s);
             }
         }
     }

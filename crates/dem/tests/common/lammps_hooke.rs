@@ -2,23 +2,16 @@
 // engine itself (`State::new`, `step`) with the `hooke_history` contact model, in the
 // dimension of the crate that includes this file as `dem`: positions, velocities, spins,
 // forces and torques of every atom must follow LAMMPS to a bound (1e-10 in 3D) of each
-// field's largest magnitude over the run. The including file defines `floor()`, the wall z = 0 (3D).
+// field's largest magnitude over the run. The including file defines `floor()`, the wall
+// z = 0 (3D), and includes `lammps.rs` first, whose table readers this file uses.
 
+use super::{csv, deviation, scales};
 use dem::math::{AngVector, Components, Vector, DIM};
 use dem::{step, ContactModel, Domain, Material, Particles, Setup, State, Wall};
 use std::path::PathBuf;
 
 fn dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../dem/tests/lammps/hooke")
-}
-
-fn csv(path: PathBuf) -> Vec<Vec<f64>> {
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    text.lines()
-        .skip(1)
-        .filter(|l| !l.trim().is_empty())
-        .map(|l| l.split(',').map(|x| x.trim().parse().unwrap()).collect())
-        .collect()
 }
 
 /// The contact model of a `gran/hooke/history kn kt γn γt xmu 1` argument list.
@@ -33,13 +26,6 @@ fn model(args: &[&str]) -> ContactModel {
         mu: f(4),
         limit_damping: false,
     }
-}
-
-/// One table row's fields (x, v, ω, f, τ) as this dimension holds them.
-fn fields(row: &[f64]) -> [Vec<f64>; 5] {
-    let vec = |at: usize| row[at..at + DIM].to_vec();
-    let ang = |end: usize| row[end - AngVector::N..end].to_vec();
-    [vec(2), vec(5), ang(11), vec(11), ang(17)]
 }
 
 /// Runs deck `name` through the engine; returns the largest deviation from LAMMPS.
@@ -104,34 +90,14 @@ fn replay(name: &str) -> f64 {
         p.inv_inertia[i] = 1.0 / (inertia * m * r * r);
     }
     let table = csv(dir().join("tables").join(format!("{name}.csv")));
-    let mut scale = [0.0f64; 5];
-    for row in &table {
-        for (s, f) in scale.iter_mut().zip(fields(row)) {
-            *s = f.iter().fold(*s, |m, v| m.max(v.abs()));
-        }
-    }
+    let scale = scales(&table);
     let mut st = State::new(&setup, p);
     let mut worst = 0.0f64;
     for n in 0..=steps {
         if n > 0 {
             step(&setup, &mut st, dt);
         }
-        let p = &st.particles;
-        for row in table.iter().filter(|r| r[0] == n as f64) {
-            let i = p.id.iter().position(|&k| k as f64 == row[1] - 1.0).unwrap();
-            let ours = [
-                Vector::flatten(&[p.pos[i]]),
-                Vector::flatten(&[p.vel[i]]),
-                AngVector::flatten(&[p.omega[i]]),
-                Vector::flatten(&[p.force[i]]),
-                AngVector::flatten(&[p.torque[i]]),
-            ];
-            for ((o, l), s) in ours.iter().zip(fields(row)).zip(scale) {
-                for (x, y) in o.iter().zip(&l) {
-                    worst = worst.max((x - y).abs() / s);
-                }
-            }
-        }
+        worst = worst.max(deviation(&st.particles, &table, n, &scale));
     }
     worst
 }
