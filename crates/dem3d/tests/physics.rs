@@ -262,19 +262,24 @@ fn bed() -> (Setup, Particles) {
     (s, cloud(14, 0.0015, 11))
 }
 
-fn run(threads: usize, steps: usize) -> State {
-    let (s, p) = bed();
+/// `steps` steps of `dt` from `p` on a pool of `threads` threads.
+fn run_on(s: &Setup, p: Particles, threads: usize, steps: usize, dt: f64) -> State {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .unwrap();
     pool.install(|| {
-        let mut st = State::new(&s, p);
+        let mut st = State::new(s, p);
         for _ in 0..steps {
-            step(&s, &mut st, 2e-5);
+            step(s, &mut st, dt);
         }
         st
     })
+}
+
+fn run(threads: usize, steps: usize) -> State {
+    let (s, p) = bed();
+    run_on(&s, p, threads, steps, 2e-5)
 }
 
 #[test]
@@ -484,17 +489,7 @@ fn granular_bed_is_bitwise_on_threads_and_through_a_checkpoint() {
     };
     let run = |threads: usize, steps: usize| {
         let (s, p) = granular_bed();
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let mut st = State::new(&s, p);
-            for _ in 0..steps {
-                step(&s, &mut st, 1e-5);
-            }
-            st
-        })
+        run_on(&s, p, threads, steps, 1e-5)
     };
     let one = run(1, 1200);
     assert!(one

@@ -2,7 +2,8 @@
 """Physical sanity check of each deck's dump: contact window, overlap, normal restitution, normal turning,
 energy loss, and the stick/slip sequence (from tools/ref_hooke.py: S = slip, . = stick, per contact step)."""
 import math, os, sys, glob
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# dumpio.py is shared with the granular decks' tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 from dumpio import read_dump
 import ref_hooke as rh
 

@@ -7,7 +7,8 @@ Trajectory values are copied verbatim from the %.17g dumps. The history tables c
 tools/ref_hooke.py, which reproduces every dumped LAMMPS value bit for bit (checked here).
 """
 import os, sys, glob
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# dumpio.py is shared with the granular decks' tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 from dumpio import read_dump
 import ref_hooke as rh
 

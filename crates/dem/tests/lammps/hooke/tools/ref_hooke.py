@@ -7,7 +7,8 @@ It also supplies the shear history (LAMMPS cannot dump it) and counts the branch
 """
 import math, os, sys, glob
 from collections import Counter
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# dumpio.py is shared with the granular decks' tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 from dumpio import read_dump
 
 HERE = os.path.dirname(os.path.abspath(__file__))
