@@ -5,6 +5,8 @@
 
 mod common;
 use common::*;
+#[path = "refusals/dem3d.rs"]
+mod dem3d;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -660,6 +662,7 @@ fn all_cases() -> Vec<Case> {
     names(&mut all);
     arguments(&mut all);
     dem_values(&mut all);
+    dem3d::values(&mut all);
     other_engines(&mut all);
     pack_values(&mut all);
     all

@@ -39,6 +39,9 @@ pub enum Damping {
     Viscoelastic,
     /// η_n = α(e) √(m* k_n) (Hertz: k_n = (4/3)E* a), α Tsuji's fit.
     Tsuji,
+    /// Tsuji's form with α solved so that a collision rebounds at e exactly
+    /// ([`crate::restitution`]); not a LAMMPS model.
+    Restitution,
 }
 
 /// Tangential model.
@@ -75,7 +78,7 @@ pub struct GranularParams {
     pub kn: f64,
     /// Damping model.
     pub damping: Damping,
-    /// η₀, or Tsuji's α(e).
+    /// η₀, or Tsuji's α(e), or the α solved for e ([`Damping::Restitution`]).
     pub damp: f64,
     /// Tangential model.
     pub tangential: Tangential,
@@ -136,10 +139,10 @@ impl GranularParams {
             normal,
             kn,
             damping,
-            damp: if damping == Damping::Tsuji {
-                tsuji_alpha(damp_in)
-            } else {
-                damp_in
+            damp: match damping {
+                Damping::Tsuji => tsuji_alpha(damp_in),
+                Damping::Restitution => crate::restitution::alpha(normal, damp_in),
+                _ => damp_in,
             },
             tangential,
             kt: kt.unwrap_or_else(|| 8.0 * effective_shear(e, nu)),
@@ -235,7 +238,7 @@ pub fn respond(
         Damping::Velocity => 1.0,
         Damping::MassVelocity => c.m_eff,
         Damping::Viscoelastic => a * c.m_eff,
-        Damping::Tsuji => (c.m_eff * knfac).sqrt(),
+        Damping::Tsuji | Damping::Restitution => (c.m_eff * knfac).sqrt(),
     };
     let eta_n = p.damp * damp_normal;
     let mut fn_total = fne - eta_n * vnn;

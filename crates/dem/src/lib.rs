@@ -31,6 +31,7 @@ pub mod material;
 pub mod math;
 pub mod neighbours;
 pub mod particles;
+pub mod restitution;
 pub mod setup;
 pub mod step;
 pub mod stress;

@@ -33,9 +33,9 @@ pub struct Setup {
     pub expanding_from: Option<Vector>,
     /// The law of LAMMPS `pair granular` per material pair ([`crate::granular`]), which
     /// then replaces the linear law of `pairs` for every pair and wall; `None`: the
-    /// linear law. Set through the library (not yet from a scenario). The stable time
-    /// step ([`crate::timestep`]), the energy ledger and each particle's contact stress
-    /// are still the linear law's; `diagnostics::measure` asks this law for its energy.
+    /// linear law. Set through the library and by 3D scenarios. The stable time step
+    /// ([`crate::timestep`]) and the energy ledger are still the linear law's;
+    /// `diagnostics::measure` and `stress` ask this law.
     pub granular: Option<PairTable<GranularParams>>,
 }
 

@@ -4,13 +4,22 @@
 
 use crate::contact::PairParams;
 use crate::forces::contact_law;
+use crate::granular::{respond, Contact, GranularParams, WIDTH};
 use crate::math::{self, outer, AngVector, Tangent, Tensor, Vector};
 use crate::setup::Setup;
 use crate::step::State;
 
+/// The force on the first body of a contact under the granular law, its history as
+/// stored (a copy: nothing is advanced).
+fn granular_force(law: &GranularParams, c: &Contact, h: &[f64; WIDTH]) -> Vector {
+    let mut h = *h;
+    respond(law, c, &mut h, 0.0, false).force
+}
+
 /// Each particle's contact stress σ_i = (1/V_i) Σ_c a_c ⊗ f_c (Pa, tension positive; V_i
 /// the disk's area πr_i² in 2D, the stress per unit thickness, the sphere's volume in 3D): `a_c` from the centre to the middle of the overlap, `f_c` the force
 /// on the particle, over its pair and wall contacts. The forces are the contact law's
+/// (the linear law's, or the granular law's when the set-up has one)
 /// with the present velocities and the stored tangential springs; summed over both
 /// particles of a pair the arms add up to the branch vector, so Σ_i V_i σ_i is Σ over
 /// contacts of l ⊗ f, the sum of Eq. 6.
@@ -41,20 +50,33 @@ pub fn particle_stress(setup: &Setup, s: &State) -> Vec<Tensor> {
                     continue;
                 }
                 let nv = d / dist;
-                let pp = setup
-                    .pairs
-                    .get(p.material[i] as usize, p.material[j] as usize);
+                let (mi, mj) = (p.material[i] as usize, p.material[j] as usize);
                 let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
                 let spin = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
-                let f = force(
-                    pp,
-                    m_eff,
-                    nv,
-                    overlap,
-                    p.vel[i] - p.vel[j],
-                    spin,
-                    list.shear[e],
-                );
+                let f = match (&setup.granular, list.history.get(e)) {
+                    (Some(t), Some(h)) => granular_force(
+                        t.get(mi, mj),
+                        &Contact {
+                            n: nv,
+                            overlap,
+                            r_eff: p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]),
+                            m_eff,
+                            v: p.vel[i] - p.vel[j],
+                            spin,
+                            w_rel: p.omega[i] - p.omega[j],
+                        },
+                        h,
+                    ),
+                    _ => force(
+                        setup.pairs.get(mi, mj),
+                        m_eff,
+                        nv,
+                        overlap,
+                        p.vel[i] - p.vel[j],
+                        spin,
+                        list.shear[e],
+                    ),
+                };
                 sum[i] += outer((p.radius[i] - 0.5 * overlap) * nv, f);
                 sum[j] += outer(-(p.radius[j] - 0.5 * overlap) * nv, -f);
             }
@@ -75,16 +97,31 @@ pub fn particle_stress(setup: &Setup, s: &State) -> Vec<Tensor> {
                 .get(i * nw + w)
                 .copied()
                 .unwrap_or(Tangent::default());
-            let pp = setup.wall_pair(w, p.material[i] as usize);
-            let f = force(
-                pp,
-                p.mass(i),
-                t.normal,
-                overlap,
-                p.vel[i],
-                p.radius[i] * p.omega[i],
-                xi,
-            );
+            let mi = p.material[i] as usize;
+            let f = match (&setup.granular, list.wall_history.get(i * nw + w)) {
+                (Some(table), Some(h)) => granular_force(
+                    table.get(mi, wall.material.map_or(mi, |m| m as usize)),
+                    &Contact {
+                        n: t.normal,
+                        overlap,
+                        r_eff: p.radius[i],
+                        m_eff: p.mass(i),
+                        v: p.vel[i],
+                        spin: p.radius[i] * p.omega[i],
+                        w_rel: p.omega[i],
+                    },
+                    h,
+                ),
+                _ => force(
+                    setup.wall_pair(w, mi),
+                    p.mass(i),
+                    t.normal,
+                    overlap,
+                    p.vel[i],
+                    p.radius[i] * p.omega[i],
+                    xi,
+                ),
+            };
             sum[i] += outer((t.distance + 0.5 * overlap) * t.normal, f);
         }
     }

@@ -171,6 +171,7 @@ fn label(key: &str) -> String {
 pub fn check(src: &Source, threads: usize) -> Result<Derived, String> {
     match scenario::parse(src)? {
         Scenario::Dem(s) => dem::check::derived(&s, src, threads),
+        Scenario::Dem3(s) => crate::dem3d::run::derived(&s, src, threads),
         Scenario::Mpm(s) => mpm::check::derived(&s, src, threads),
         Scenario::FemDem(s) => blast::check::derived(&s, src, threads),
     }

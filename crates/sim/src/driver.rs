@@ -62,6 +62,10 @@ pub trait Simulation: Send {
     fn unstable(&self, sample: &Self::Sample) -> Option<String>;
     /// The particles as they are now.
     fn particles(&self) -> ParticleView<'_>;
+    /// How many particles there are (a 3D run's are not in its 2D [`ParticleView`]).
+    fn count(&self) -> usize {
+        self.particles().id.len()
+    }
     /// Fingerprint of the whole state: equal fingerprints mean bitwise-equal runs.
     fn state_hash(&self) -> u64;
     /// The engine state as checkpoint bytes, when the engine can be resumed.

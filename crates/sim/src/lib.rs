@@ -21,6 +21,7 @@ pub mod blast;
 pub mod check;
 pub mod checkpoint;
 pub mod dem;
+pub mod dem3d;
 pub mod dispersal;
 pub mod driver;
 pub mod estimate;

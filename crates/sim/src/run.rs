@@ -12,7 +12,7 @@ use crate::driver::{self, Observer, Outcome, Progress, Silent, Simulation, Statu
 use crate::scenario::{self, Scenario};
 use crate::source::Source;
 use crate::summary::Summary;
-use crate::{blast, dem, mpm};
+use crate::{blast, dem, dem3d, mpm};
 use grains_core::atomic::write_atomic;
 use grains_core::checks::Check;
 use std::path::{Path, PathBuf};
@@ -100,6 +100,8 @@ pub fn resume(dir: &Path, mut opts: RunOptions) -> Result<Finished, RunError> {
 pub enum AnyRun {
     /// `engine = "dem"`.
     Dem(Box<dem::run::DemRun>),
+    /// `engine = "dem"`, `dim = 3`.
+    Dem3(Box<dem3d::run::Dem3Run>),
     /// `engine = "mpm"`.
     Mpm(Box<mpm::run::MpmRun>),
     /// `engine = "fem_dem"`.
@@ -115,6 +117,7 @@ impl AnyRun {
     ) -> Result<Finished, RunError> {
         match self {
             AnyRun::Dem(l) => run_live(l.as_mut(), opts, src),
+            AnyRun::Dem3(l) => run_live(l.as_mut(), opts, src),
             AnyRun::Mpm(l) => run_live(l.as_mut(), opts, src),
             AnyRun::FemDem(l) => run_live(l.as_mut(), opts, src),
         }
@@ -126,6 +129,7 @@ impl AnyRun {
 pub fn open(src: &Source, opts: &mut RunOptions) -> Result<AnyRun, RunError> {
     Ok(match scenario::parse(src).map_err(RunError::Input)? {
         Scenario::Dem(s) => AnyRun::Dem(Box::new(dem::run::open(&s, src, opts, None)?)),
+        Scenario::Dem3(s) => AnyRun::Dem3(Box::new(dem3d::run::open(&s, src, opts)?)),
         Scenario::Mpm(s) => AnyRun::Mpm(Box::new(mpm::run::open(&s, src, opts)?)),
         Scenario::FemDem(s) => AnyRun::FemDem(Box::new(blast::run::open(&s, src, opts, None)?)),
     })
@@ -166,6 +170,10 @@ pub fn open_resumed(dir: &Path, opts: &mut RunOptions) -> Result<(AnyRun, Source
             let live = blast::run::open(&s, &src, opts, Some(saved))?;
             Ok((AnyRun::FemDem(Box::new(live)), src))
         }
+        Scenario::Dem3(_) => Err(RunError::Input(format!(
+            "{}: resume is not yet supported for 3D (dim = 3) runs; run it again with `grains run`",
+            dir.display()
+        ))),
         other => Err(RunError::Input(format!(
             "{}: resume is supported for engine = \"dem\" and \"fem_dem\" runs, this one is engine = \"{}\"",
             dir.display(),
@@ -225,7 +233,7 @@ pub fn summary<S: Simulation>(
     costs: Costs,
     counts: serde_json::Map<String, serde_json::Value>,
 ) -> Summary {
-    let n = sim.particles().pos.len();
+    let n = sim.count();
     Summary {
         name: name.to_string(),
         engine,

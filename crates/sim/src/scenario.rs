@@ -2,7 +2,7 @@
 //! a packing spec, which belongs to `grains pack`.
 
 use crate::source::Source;
-use crate::{blast, dem, mpm};
+use crate::{blast, dem, dem3d, mpm};
 use grains_core::input::{file_name, parse_toml, toml_message, InputError};
 
 /// A parsed scenario of any engine.
@@ -10,6 +10,8 @@ use grains_core::input::{file_name, parse_toml, toml_message, InputError};
 pub enum Scenario {
     /// `engine = "dem"` (the default).
     Dem(dem::scenario::Scenario),
+    /// `engine = "dem"` with `dim = 3`.
+    Dem3(Box<dem3d::scenario::Scenario>),
     /// `engine = "mpm"`.
     Mpm(mpm::scenario::Scenario),
     /// `engine = "fem_dem"`.
@@ -21,6 +23,7 @@ impl Scenario {
     pub fn name(&self) -> &str {
         match self {
             Scenario::Dem(s) => &s.name,
+            Scenario::Dem3(s) => &s.name,
             Scenario::Mpm(s) => &s.name,
             Scenario::FemDem(s) => &s.name,
         }
@@ -29,7 +32,7 @@ impl Scenario {
     /// The engine's name.
     pub fn engine(&self) -> &'static str {
         match self {
-            Scenario::Dem(_) => "dem",
+            Scenario::Dem(_) | Scenario::Dem3(_) => "dem",
             Scenario::Mpm(_) => "mpm",
             Scenario::FemDem(_) => "fem_dem",
         }
@@ -105,7 +108,78 @@ fn output_names(s: &Scenario) -> Result<(), InputError> {
     Ok(())
 }
 
+/// The keys of a DEM scenario that hold a point or a vector: as many numbers as the
+/// scenario has dimensions (2D's `omega` is a number, not a list).
+const VECTOR_KEYS: [&str; 14] = [
+    "at", "velocity", "omega", "lo", "hi", "a", "b", "point", "normal", "axis", "centre", "base",
+    "gravity", "periodic",
+];
+
+/// Refuses a vector of the other dimension anywhere in a DEM scenario, naming its key
+/// (serde reads a table tagged by its `shape` or `source` without positions, and a
+/// longer list into a shorter array without a word).
+fn vector_lengths(table: &toml::Table, dim: usize, path: &str) -> Result<(), InputError> {
+    for (key, value) in table {
+        let here = if path.is_empty() {
+            key.clone()
+        } else {
+            format!("{path}.{key}")
+        };
+        match value {
+            toml::Value::Array(items) if VECTOR_KEYS.contains(&key.as_str()) => {
+                let scalar =
+                    |v: &toml::Value| !matches!(v, toml::Value::Table(_) | toml::Value::Array(_));
+                if items.iter().all(scalar) && items.len() != dim {
+                    let hint = if dim == 2 {
+                        " (a 3D scenario sets dim = 3)"
+                    } else {
+                        ""
+                    };
+                    return Err(InputError::new(
+                        here,
+                        value.to_string(),
+                        format!("must hold {dim} values, one per axis, in a {dim}D scenario{hint}"),
+                    ));
+                }
+            }
+            toml::Value::Array(items) => {
+                for (k, item) in items.iter().enumerate() {
+                    if let toml::Value::Table(t) = item {
+                        vector_lengths(t, dim, &format!("{here}[{k}]"))?;
+                    }
+                }
+            }
+            toml::Value::Table(t) => vector_lengths(t, dim, &here)?,
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 fn by_engine(table: &toml::Table, text: &str, origin: &str) -> Result<Scenario, String> {
+    let dem = table
+        .get("engine")
+        .is_none_or(|e| e.as_str() == Some("dem"));
+    if dem {
+        let three = table.get("dim") == Some(&toml::Value::Integer(3));
+        vector_lengths(table, if three { 3 } else { 2 }, "")
+            .map_err(|e| format!("{origin}: {e}"))?;
+    }
+    match table.get("dim") {
+        None => {}
+        Some(toml::Value::Integer(2)) if dem => {}
+        Some(toml::Value::Integer(3)) if dem => {
+            return Ok(Scenario::Dem3(Box::new(parse_toml(text, origin)?)));
+        }
+        Some(other) if dem => {
+            return Err(format!("{origin}: dim = {other}: must be 2 or 3"));
+        }
+        Some(other) => {
+            return Err(format!(
+                "{origin}: dim = {other}: only engine = \"dem\" takes dim (the other engines are 2D)"
+            ));
+        }
+    }
     match table.get("engine") {
         None => Ok(Scenario::Dem(parse_toml(text, origin)?)),
         Some(toml::Value::String(s)) if s == "dem" => Ok(Scenario::Dem(parse_toml(text, origin)?)),

@@ -68,6 +68,12 @@ impl ParticleMap<'_> {
     /// radius are skipped; a non-finite value is drawn grey. The axes span the disks;
     /// outlines are clipped to them.
     pub fn write_png(&self, path: &Path) -> Result<(), PlotError> {
+        self.write_png_axes(path, ["x", "y"])
+    }
+
+    /// [`ParticleMap::write_png`] with the axes named `axes` (a projection of 3D
+    /// particles onto x–z, say).
+    pub fn write_png_axes(&self, path: &Path, axes: [&str; 2]) -> Result<(), PlotError> {
         let n = self.centres.len();
         if self.radii.len() != n || self.values.len() != n {
             return Err(PlotError::InvalidInput(format!(
@@ -115,7 +121,7 @@ impl ParticleMap<'_> {
             let (w, _) = root.dim_in_pixel();
             let (map, bar) = root.split_horizontally(w.saturating_sub(BAR_AREA));
             let v_range = axis_range(extent(disks.iter().map(|d| d.2)), 0.0);
-            draw_map(&map, &disks, &outlines, unit, v_range)?;
+            draw_map(&map, &disks, &outlines, unit, axes, v_range)?;
             draw_colour_bar(
                 &bar,
                 v_range,
@@ -206,6 +212,7 @@ fn draw_map(
     disks: &[(DVec2, f64, f64)],
     outlines: &[Vec<(f64, f64)>],
     unit: &str,
+    axes: [&str; 2],
     (v0, v1): (f64, f64),
 ) -> Result<(), PlotError> {
     let (w, h) = area.dim_in_pixel();
@@ -224,8 +231,8 @@ fn draw_map(
     chart
         .configure_mesh()
         .disable_mesh()
-        .x_desc(format!("x ({unit})"))
-        .y_desc(format!("y ({unit})"))
+        .x_desc(format!("{} ({unit})", axes[0]))
+        .y_desc(format!("{} ({unit})", axes[1]))
         .x_label_formatter(&fx)
         .y_label_formatter(&fy)
         .label_style((FONT, 16))

@@ -451,6 +451,7 @@ fn ring_part(
     }
     let half = 1.05 * r.outer_radius;
     let dem = dem_scn::Scenario {
+        dim: None,
         engine: None,
         name: s.name.clone(),
         description: String::new(),

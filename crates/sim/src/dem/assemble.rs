@@ -156,19 +156,7 @@ pub fn assemble_with(
     }
 
     let mean_d = 2.0 * particles.radius.iter().sum::<f64>() / particles.len() as f64;
-    let skin = s.run.skin.unwrap_or(0.1 * mean_d);
-    positive("run.skin", skin)?;
-    positive("run.duration", s.run.duration)?;
-    if !(s.run.safety > 0.0 && s.run.safety <= 1.0) {
-        return Err(InputError::new(
-            "run.safety",
-            s.run.safety,
-            "must be in (0, 1]",
-        ));
-    }
-    if let Some(r) = s.run.stop_kinetic_ratio {
-        positive("run.stop_kinetic_ratio", r)?;
-    }
+    let skin = s.run.validate(mean_d)?;
     s.output.validate(&super::CAPABILITIES, s.run.duration)?;
     if let Some(d) = &s.dispersal {
         if d.centre.is_none() {
@@ -179,9 +167,6 @@ pub fn assemble_with(
             ));
         }
         d.validate("dispersal", s.run.duration)?;
-    }
-    if let Some(t) = s.run.stop_rest_time {
-        positive("run.stop_rest_time", t)?;
     }
     let setup = Setup::new(
         domain,
@@ -248,20 +233,13 @@ fn add_group(
     let key = format!("particles[{g}]");
     let mut push =
         |mat: u16, at: DVec2, r: f64, v: DVec2, w: f64, what: &str| -> Result<(), InputError> {
-            if !(r.is_finite() && r > 0.0) {
-                return Err(InputError::new(
-                    format!("{key}.{what}.radius"),
-                    r,
-                    "must be a finite number > 0",
-                ));
-            }
-            if !at.is_finite() || !v.is_finite() || !w.is_finite() {
-                return Err(InputError::new(
-                    format!("{key}.{what}"),
-                    format!("{at:?}"),
-                    "position and velocity must be finite",
-                ));
-            }
+            sphere_values(
+                &key,
+                what,
+                r,
+                at.is_finite() && v.is_finite() && w.is_finite(),
+                at,
+            )?;
             let m = &s.materials[mat as usize];
             out.push(at, r, m.density, m.inertia_factor, mat, v, w);
             Ok(())
@@ -290,32 +268,7 @@ fn add_group(
             seed,
         } => {
             let mat = material_index(&format!("{key}.material"), material)?;
-            let (rmin, rmax) = match *radius {
-                RadiusSpec::Constant { value } => (value, value),
-                RadiusSpec::Uniform { min, max } => (min, max),
-            };
-            positive(&format!("{key}.radius.min"), rmin)?;
-            if !(rmax.is_finite() && rmax >= rmin) {
-                return Err(InputError::new(
-                    format!("{key}.radius.max"),
-                    rmax,
-                    format!("must be >= radius.min = {rmin}"),
-                ));
-            }
-            if !(spacing.is_finite() && *spacing >= 1.0) {
-                return Err(InputError::new(
-                    format!("{key}.spacing"),
-                    spacing,
-                    "must be >= 1 (disks would overlap)",
-                ));
-            }
-            if !(speed.is_finite() && *speed >= 0.0) {
-                return Err(InputError::new(
-                    format!("{key}.speed"),
-                    speed,
-                    "must be >= 0",
-                ));
-            }
+            let (rmin, rmax) = lattice_values(&key, radius, *spacing, *speed)?;
             let pitch = 2.0 * rmax * spacing;
             let lo = DVec2::from(region.lo);
             let size = DVec2::from(region.hi) - lo;
@@ -553,4 +506,61 @@ fn check_references(s: &Scenario, setup: &Setup, p: &Particles) -> Result<(), In
         }
     }
     Ok(())
+}
+
+/// Checks one particle's radius and that its position and velocities are finite
+/// (`finite`; `at` is shown when not): 2D and 3D alike.
+pub fn sphere_values(
+    key: &str,
+    what: &str,
+    r: f64,
+    finite: bool,
+    at: impl std::fmt::Debug,
+) -> Result<(), InputError> {
+    positive(&format!("{key}.{what}.radius"), r)?;
+    if !finite {
+        return Err(InputError::new(
+            format!("{key}.{what}"),
+            format!("{at:?}"),
+            "position and velocity must be finite",
+        ));
+    }
+    Ok(())
+}
+
+/// The radius range of a lattice or random group, its spacing (≥ 1) and initial speed
+/// (≥ 0) checked: 2D and 3D alike. `spacing` NaN: not a lattice, not checked.
+pub fn lattice_values(
+    key: &str,
+    radius: &RadiusSpec,
+    spacing: f64,
+    speed: f64,
+) -> Result<(f64, f64), InputError> {
+    let (rmin, rmax) = match *radius {
+        RadiusSpec::Constant { value } => (value, value),
+        RadiusSpec::Uniform { min, max } => (min, max),
+    };
+    positive(&format!("{key}.radius.min"), rmin)?;
+    if !(rmax.is_finite() && rmax >= rmin) {
+        return Err(InputError::new(
+            format!("{key}.radius.max"),
+            rmax,
+            format!("must be >= radius.min = {rmin}"),
+        ));
+    }
+    if !(spacing.is_nan() || spacing.is_finite() && spacing >= 1.0) {
+        return Err(InputError::new(
+            format!("{key}.spacing"),
+            spacing,
+            "must be >= 1 (particles would overlap)",
+        ));
+    }
+    if !(speed.is_finite() && speed >= 0.0) {
+        return Err(InputError::new(
+            format!("{key}.speed"),
+            speed,
+            "must be >= 0",
+        ));
+    }
+    Ok((rmin, rmax))
 }

@@ -65,31 +65,41 @@ pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, St
     let a = assemble(s, &src.base).map_err(|e| format!("{}: {e}", src.origin))?;
     let n = a.particles.len() as u64;
     let walls = a.setup.walls.len();
-    let mut d = Derived {
-        lines: Derived::head(&s.name, "dem", &s.description),
-        ..Default::default()
-    };
-    d.lines.extend([
-        Line::new("particles", n, n.to_string()),
-        Line::new(
-            "materials",
-            a.setup.materials.len(),
-            a.setup.materials.len().to_string(),
-        ),
-        Line::new("walls", walls, walls.to_string()),
-    ]);
-    d.lines.extend(Derived::fixed_step(
-        a.dt,
-        a.dt_critical,
-        s.run.duration,
-        a.steps,
-    ));
-    d.lines.push(Line::new(
-        "skin",
+    let mut d = lines(
+        (&s.name, &s.description),
+        Vec::new(),
+        &[n, a.setup.materials.len() as u64, walls as u64],
+        (a.dt, a.dt_critical, s.run.duration, a.steps),
         a.setup.skin,
-        format!("{:.4e} m", a.setup.skin),
-    ));
+    );
     d.cost(&cost(n, walls, a.steps, threads));
     d.warnings.extend(super::plausible::warnings(s, &a));
     Ok(d)
+}
+
+/// What `grains check` prints for a DEM scenario of either dimension: its (name,
+/// description), the `extra` lines, the particle, material and wall counts, the step
+/// (dt, critical dt, duration, steps) and the skin.
+pub fn lines(
+    (name, description): (&str, &str),
+    extra: Vec<Line>,
+    &[n, materials, walls]: &[u64; 3],
+    (dt, dt_critical, duration, steps): (f64, f64, f64, u64),
+    skin: f64,
+) -> Derived {
+    let mut d = Derived {
+        lines: Derived::head(name, "dem", description),
+        ..Default::default()
+    };
+    d.lines.extend(extra);
+    d.lines.extend([
+        Line::new("particles", n, n.to_string()),
+        Line::new("materials", materials, materials.to_string()),
+        Line::new("walls", walls, walls.to_string()),
+    ]);
+    d.lines
+        .extend(Derived::fixed_step(dt, dt_critical, duration, steps));
+    d.lines
+        .push(Line::new("skin", skin, format!("{skin:.4e} m")));
+    d
 }

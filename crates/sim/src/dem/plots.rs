@@ -7,9 +7,40 @@ use grains_core::plot::{time_label, LinePlot, Outline, ParticleMap, Series};
 use grains_dem::{Setup, State};
 use std::path::Path;
 
+/// The units a DEM run's plots are labelled in: per unit thickness in 2D, whole in 3D.
+pub struct Units {
+    /// Energy (J/m or J).
+    pub energy: &'static str,
+    /// Force (N/m or N).
+    pub force: &'static str,
+    /// What the values are per, for the titles (" (per unit thickness)" or "").
+    pub per: &'static str,
+}
+
+/// The 2D units.
+pub const PLANAR: Units = Units {
+    energy: "J/m",
+    force: "N/m",
+    per: " (per unit thickness)",
+};
+
 /// Writes `energies.png`, `kinetic_energy.png` (log scale), `contacts.png`, with walls
 /// `wall_forces_x.png` and `wall_forces_y.png`, and a map of the final particles coloured by speed.
 pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyhow::Result<()> {
+    let walls: Vec<&str> = setup.walls.iter().map(|w| w.name.as_str()).collect();
+    history_plots(dir, h, &walls, &["x", "y"], &PLANAR)?;
+    particle_map(&dir.join("particles_final.png"), setup, state)
+}
+
+/// The plots of a DEM history (2D or 3D): energies, kinetic energy, coordination and,
+/// with walls, each wall's force along each of `axes`.
+pub fn history_plots(
+    dir: &Path,
+    h: &History,
+    walls: &[&str],
+    axes: &[&str],
+    units: &Units,
+) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir)?;
     let col = |name: &str| h.column(name).unwrap_or_default();
     let t = col("time");
@@ -22,9 +53,9 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
     let potential = shift(col("potential"));
     let total = shift(col("total"));
     LinePlot {
-        title: "Energies (per unit thickness)",
+        title: &format!("Energies{}", units.per),
         x_label: "time (s)",
-        y_label: "energy (J/m)",
+        y_label: &format!("energy ({})", units.energy),
         series: vec![
             Series {
                 name: "kinetic",
@@ -53,9 +84,9 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
     .write_png_and_csv(&dir.join("energies.png"))?;
 
     LinePlot {
-        title: "Kinetic energy",
+        title: &format!("Kinetic energy{}", units.per),
         x_label: "time (s)",
-        y_label: "energy (J/m)",
+        y_label: &format!("energy ({})", units.energy),
         series: vec![Series {
             name: "kinetic",
             x: &t,
@@ -65,8 +96,6 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
         points: false,
     }
     .write_png_and_csv(&dir.join("kinetic_energy.png"))?;
-
-    particle_map(&dir.join("particles_final.png"), setup, state)?;
 
     let coordination = col("coordination");
     LinePlot {
@@ -83,11 +112,11 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
     }
     .write_png_and_csv(&dir.join("contacts.png"))?;
 
-    for (c, axis) in [("fx", "x"), ("fy", "y")] {
-        if setup.walls.is_empty() {
+    for axis in axes {
+        if walls.is_empty() {
             break;
         }
-        let (data, idle) = loaded_walls(setup, |w| col(&format!("{w}_{c}")));
+        let (data, idle) = loaded_walls(walls, |w| col(&format!("{w}_f{axis}")));
         // Each sample is one instant of impacts; a running mean shows each wall's load
         // instead of six sets of spikes over one another (history.csv keeps the samples).
         let window = (t.len() / 50).max(1);
@@ -108,7 +137,7 @@ pub fn write_all(dir: &Path, h: &History, setup: &Setup, state: &State) -> anyho
         LinePlot {
             title: &title,
             x_label: "time (s)",
-            y_label: &format!("force along {axis} per unit thickness (N/m)"),
+            y_label: &format!("force along {axis}{} ({})", units.per, units.force),
             series: data
                 .iter()
                 .map(|(k, v)| Series {
@@ -153,19 +182,18 @@ fn running_mean(v: &[f64], window: usize) -> Vec<f64> {
 /// The walls' force series worth drawing, the smallest mean load first so that the
 /// largest (a floor's, which carries the bed) is drawn last, on top of the others' spikes;
 /// and the names of the walls whose force is zero throughout, which are left out.
-fn loaded_walls(
-    setup: &grains_dem::Setup,
+fn loaded_walls<'a>(
+    walls: &[&'a str],
     force: impl Fn(&str) -> Vec<f64>,
-) -> (Vec<(&str, Vec<f64>)>, Vec<&str>) {
+) -> (Vec<(&'a str, Vec<f64>)>, Vec<&'a str>) {
     let peak = |v: &[f64]| {
         v.iter()
             .filter(|x| x.is_finite())
             .fold(0.0f64, |m, x| m.max(x.abs()))
     };
-    let (mut drawn, idle): (Vec<_>, Vec<_>) = setup
-        .walls
+    let (mut drawn, idle): (Vec<_>, Vec<_>) = walls
         .iter()
-        .map(|w| (w.name.as_str(), force(&w.name)))
+        .map(|w| (*w, force(w)))
         .partition(|(_, v)| peak(v) > 0.0);
     let mean = |v: &[f64]| {
         let f: Vec<f64> = v

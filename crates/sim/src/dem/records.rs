@@ -12,9 +12,7 @@ impl Recorded for Dem {
     }
 
     fn integer_columns(&self) -> Vec<String> {
-        ["step", "pair_contacts", "wall_contacts", "neighbour_builds"]
-            .map(String::from)
-            .to_vec()
+        INTEGER_COLUMNS.map(String::from).to_vec()
     }
 
     fn row(&self, d: &Diagnostics) -> Vec<f64> {
@@ -22,8 +20,13 @@ impl Recorded for Dem {
     }
 }
 
-/// Names of the history.csv columns.
-pub fn history_columns(setup: &Setup) -> Vec<String> {
+/// The history's integer columns, in 2D and 3D.
+pub const INTEGER_COLUMNS: [&str; 4] =
+    ["step", "pair_contacts", "wall_contacts", "neighbour_builds"];
+
+/// History columns of a DEM run in `axes` (momentum components) with `walls`, each
+/// with the load columns `loads`: the same names in 2D and 3D.
+pub fn columns(axes: &[&str], walls: &[&str], loads: &[&str]) -> Vec<String> {
     let mut c: Vec<String> = [
         "time",
         "step",
@@ -32,44 +35,64 @@ pub fn history_columns(setup: &Setup) -> Vec<String> {
         "potential",
         "elastic",
         "total",
-        "momentum_x",
-        "momentum_y",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    c.extend(axes.iter().map(|a| format!("momentum_{a}")));
+    for name in [
         "pair_contacts",
         "wall_contacts",
         "coordination",
         "max_overlap_ratio",
         "neighbour_builds",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    for w in &setup.walls {
-        for suffix in ["fx", "fy", "torque"] {
-            c.push(format!("{}_{suffix}", w.name));
+    ] {
+        c.push(name.into());
+    }
+    for w in walls {
+        for suffix in loads {
+            c.push(format!("{w}_{suffix}"));
         }
     }
     c
 }
 
+/// The row of a DEM state `$s` and its diagnostics `$d` before the walls' loads: the
+/// same fields in 2D and 3D, from the two builds' own types.
+macro_rules! state_row {
+    ($s:expr, $d:expr) => {{
+        let (s, d) = ($s, $d);
+        let mut row = vec![
+            s.time,
+            s.step as f64,
+            d.kinetic(),
+            d.kinetic_rotational,
+            d.potential,
+            d.elastic,
+            d.total(),
+        ];
+        row.extend(d.momentum.to_array());
+        row.extend([
+            d.pair_contacts as f64,
+            d.wall_contacts as f64,
+            d.mean_coordination(s.particles.len()),
+            d.max_overlap_ratio,
+            s.contacts.builds as f64,
+        ]);
+        row
+    }};
+}
+pub(crate) use state_row;
+
+/// Names of the history.csv columns.
+pub fn history_columns(setup: &Setup) -> Vec<String> {
+    let walls: Vec<&str> = setup.walls.iter().map(|w| w.name.as_str()).collect();
+    columns(&["x", "y"], &walls, &["fx", "fy", "torque"])
+}
+
 /// One history row for the state and its diagnostics.
 pub fn history_row(setup: &Setup, s: &State, d: &Diagnostics) -> Vec<f64> {
-    let n = s.particles.len();
-    let mut row = vec![
-        s.time,
-        s.step as f64,
-        d.kinetic(),
-        d.kinetic_rotational,
-        d.potential,
-        d.elastic,
-        d.total(),
-        d.momentum.x,
-        d.momentum.y,
-        d.pair_contacts as f64,
-        d.wall_contacts as f64,
-        d.mean_coordination(n),
-        d.max_overlap_ratio,
-        s.contacts.builds as f64,
-    ];
+    let mut row = state_row!(s, d);
     for load in s.wall_loads.iter().take(setup.walls.len()) {
         row.extend([load.force.x, load.force.y, load.torque]);
     }

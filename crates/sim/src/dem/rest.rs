@@ -24,25 +24,35 @@ impl RestDetector {
         let n = p.len();
         let mean_d = 2.0 * p.radius.iter().sum::<f64>() / n as f64;
         let weight: f64 = (0..n).map(|i| p.mass(i)).sum::<f64>() * sim.setup.gravity.length();
+        Self::with_limit(ratio * weight * mean_d, hold)
+    }
+
+    /// The rule: kinetic energy below `limit` for `hold` seconds.
+    pub fn with_limit(limit: f64, hold: f64) -> Self {
         RestDetector {
-            limit: ratio * weight * mean_d,
+            limit,
             hold,
             since: None,
         }
+    }
+
+    /// Judges a sample at `time` with this kinetic energy.
+    pub fn judge(&mut self, time: f64, kinetic: f64) -> Flow {
+        if kinetic < self.limit {
+            let since = *self.since.get_or_insert(time);
+            if time - since >= self.hold {
+                return Flow::Stop(Status::AtRest);
+            }
+        } else {
+            self.since = None;
+        }
+        Flow::Continue
     }
 }
 
 impl Observer<Dem> for RestDetector {
     fn on_sample(&mut self, sim: &Dem, d: &Diagnostics) -> anyhow::Result<Flow> {
-        if d.kinetic() < self.limit {
-            let since = *self.since.get_or_insert(sim.state.time);
-            if sim.state.time - since >= self.hold {
-                return Ok(Flow::Stop(Status::AtRest));
-            }
-        } else {
-            self.since = None;
-        }
-        Ok(Flow::Continue)
+        Ok(self.judge(sim.state.time, d.kinetic()))
     }
 
     fn save(&self) -> Option<(&'static str, toml::Value)> {

@@ -11,6 +11,9 @@ pub struct Scenario {
     /// Engine tag; `"dem"` (the default) for this scenario type.
     #[serde(default)]
     pub engine: Option<String>,
+    /// `2` (the default; `dim = 3` is a [`crate::dem3d`] scenario).
+    #[serde(default)]
+    pub dim: Option<u32>,
     /// Name of the run; the default output directory is `runs/<name>`.
     pub name: String,
     /// Free text shown by `grains check`.
@@ -259,6 +262,31 @@ pub struct RunSpec {
     /// Default: 20 history intervals.
     #[serde(default)]
     pub stop_rest_time: Option<f64>,
+}
+
+impl RunSpec {
+    /// Checks the values (2D and 3D alike) and returns the skin, its default 0.1 × the
+    /// mean diameter `mean_d`.
+    pub fn validate(&self, mean_d: f64) -> Result<f64, grains_core::input::InputError> {
+        use grains_core::input::{positive, InputError};
+        let skin = self.skin.unwrap_or(0.1 * mean_d);
+        positive("run.skin", skin)?;
+        positive("run.duration", self.duration)?;
+        if !(self.safety > 0.0 && self.safety <= 1.0) {
+            return Err(InputError::new(
+                "run.safety",
+                self.safety,
+                "must be in (0, 1]",
+            ));
+        }
+        if let Some(r) = self.stop_kinetic_ratio {
+            positive("run.stop_kinetic_ratio", r)?;
+        }
+        if let Some(t) = self.stop_rest_time {
+            positive("run.stop_rest_time", t)?;
+        }
+        Ok(skin)
+    }
 }
 
 fn default_safety() -> f64 {

@@ -211,6 +211,10 @@ fn run_info(dir: &Path) -> Result<RunInfo, String> {
             "{}: the dispersal analysis reads DEM particles; this is an MPM run",
             dir.display()
         )),
+        Scenario::Dem3(_) => Err(format!(
+            "{}: the dispersal analysis is 2D; this is a 3D DEM run",
+            dir.display()
+        )),
     }
 }
 

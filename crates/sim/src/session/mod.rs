@@ -157,7 +157,7 @@ impl Session {
     /// The engine: `"dem"`, `"mpm"` or `"fem_dem"`.
     pub fn engine(&self) -> &'static str {
         match self.live {
-            AnyRun::Dem(_) => "dem",
+            AnyRun::Dem(_) | AnyRun::Dem3(_) => "dem",
             AnyRun::Mpm(_) => "mpm",
             AnyRun::FemDem(_) => "fem_dem",
         }
@@ -165,13 +165,17 @@ impl Session {
 
     /// Spatial dimensions.
     pub fn dim(&self) -> usize {
-        2
+        match self.live {
+            AnyRun::Dem3(_) => 3,
+            _ => 2,
+        }
     }
 
     /// Time and steps taken.
     pub fn clock(&self) -> Clock {
         match &self.live {
             AnyRun::Dem(l) => l.sim.clock(),
+            AnyRun::Dem3(l) => l.sim.clock(),
             AnyRun::Mpm(l) => l.sim.clock(),
             AnyRun::FemDem(l) => l.sim.clock(),
         }
@@ -181,6 +185,7 @@ impl Session {
     pub fn dt(&self) -> f64 {
         match &self.live {
             AnyRun::Dem(l) => l.sim.dt,
+            AnyRun::Dem3(l) => l.sim.dt,
             AnyRun::Mpm(l) => l.sim.dt,
             AnyRun::FemDem(l) => l.sim.dt,
         }
@@ -190,6 +195,7 @@ impl Session {
     pub fn state_hash(&self) -> u64 {
         match &self.live {
             AnyRun::Dem(l) => l.sim.state_hash(),
+            AnyRun::Dem3(l) => l.sim.state_hash(),
             AnyRun::Mpm(l) => l.sim.state_hash(),
             AnyRun::FemDem(l) => l.sim.state_hash(),
         }
@@ -199,6 +205,7 @@ impl Session {
     pub fn at_end(&mut self) -> bool {
         match &mut self.live {
             AnyRun::Dem(l) => over(l.as_mut()),
+            AnyRun::Dem3(l) => over(l.as_mut()),
             AnyRun::Mpm(l) => over(l.as_mut()),
             AnyRun::FemDem(l) => over(l.as_mut()),
         }
@@ -245,6 +252,7 @@ impl Session {
                 s.outside.error.take()
             }),
             AnyRun::Mpm(l) => steps(l.as_mut(), n, stop_at_rule, &mut control, &mut go, |_| None),
+            AnyRun::Dem3(l) => steps(l.as_mut(), n, stop_at_rule, &mut control, &mut go, |_| None),
             AnyRun::FemDem(l) => steps(l.as_mut(), n, stop_at_rule, &mut control, &mut go, |s| {
                 s.outside.error.take()
             }),
@@ -263,6 +271,8 @@ impl Session {
         match &self.live {
             AnyRun::Dem(l) => ParticleData::of_dem(&l.sim.state.particles),
             AnyRun::Mpm(l) => ParticleData::of_view(&l.sim.particles()),
+            // The session's particle data is 2D.
+            AnyRun::Dem3(_) => ParticleData::default(),
             AnyRun::FemDem(l) => match &l.sim.ring {
                 Some(r) => ParticleData::of_dem(&r.state.particles),
                 None => ParticleData::default(),
@@ -276,6 +286,7 @@ impl Session {
         match &self.live {
             AnyRun::Dem(l) => data::dem_field(&l.sim.state.particles, name),
             AnyRun::FemDem(l) => data::dem_field(&l.sim.ring.as_ref()?.state.particles, name),
+            AnyRun::Dem3(_) => None,
             AnyRun::Mpm(l) => {
                 let p = &l.sim.state.particles;
                 match name {
@@ -294,6 +305,7 @@ impl Session {
     pub fn layout(&self) -> u64 {
         match &self.live {
             AnyRun::Dem(l) => l.sim.state.contacts.builds,
+            AnyRun::Dem3(l) => l.sim.state.contacts.builds,
             AnyRun::FemDem(l) => l.sim.ring.as_ref().map_or(0, |r| r.state.contacts.builds),
             AnyRun::Mpm(_) => 0,
         }
@@ -324,6 +336,7 @@ impl Session {
                 }
                 None => return Err(Error::Argument("this run has no particles".into())),
             },
+            AnyRun::Dem3(_) => return Err(Error::Argument(three_d("set"))),
         };
         let target = match name {
             "position" => pos,
@@ -363,6 +376,7 @@ impl Session {
                     "outside forces apply to DEM and FEM–DEM runs; this one is engine = \"mpm\""
                         .into(),
                 )),
+                AnyRun::Dem3(_) => return Err(Error::Argument(three_d("add_force"))),
             };
         f.add(time, p).map_err(Error::Force)?;
         outside.fields.push(f);
@@ -378,7 +392,7 @@ impl Session {
                 .ring
                 .as_ref()
                 .map(|r| Contacts::of(&r.setup, &r.state)),
-            AnyRun::Mpm(_) => None,
+            AnyRun::Mpm(_) | AnyRun::Dem3(_) => None,
         }
     }
 
@@ -402,6 +416,7 @@ impl Session {
     pub fn history(&self) -> &History {
         match &self.live {
             AnyRun::Dem(l) => l.history(),
+            AnyRun::Dem3(l) => l.history(),
             AnyRun::Mpm(l) => l.history(),
             AnyRun::FemDem(l) => l.history(),
         }
@@ -422,6 +437,7 @@ impl Session {
             let mut control = run::control(&mut self.opts, &self.src);
             let done = match &mut self.live {
                 AnyRun::Dem(l) => conclude(l.as_mut(), status, &mut control, threads),
+                AnyRun::Dem3(l) => conclude(l.as_mut(), status, &mut control, threads),
                 AnyRun::Mpm(l) => conclude(l.as_mut(), status, &mut control, threads),
                 AnyRun::FemDem(l) => conclude(l.as_mut(), status, &mut control, threads),
             }?;
@@ -450,7 +466,7 @@ impl Session {
         let written = match &mut self.live {
             AnyRun::Dem(l) => save(l.as_mut(), &control),
             AnyRun::FemDem(l) => save(l.as_mut(), &control),
-            AnyRun::Mpm(_) => Ok(false),
+            AnyRun::Mpm(_) | AnyRun::Dem3(_) => Ok(false),
         }?;
         if !written {
             return Err(Error::Argument(format!(
@@ -538,4 +554,9 @@ fn conclude<L: Live>(
 fn save<L: Live>(l: &mut L, control: &crate::driver::Control) -> Result<bool, Error> {
     let (sim, stepper, mut observers) = l.parts();
     Ok(stepper.checkpoint(sim, &mut observers, control)?)
+}
+
+/// Why a session call is refused on a 3D run: the session's particle data is 2D.
+fn three_d(call: &str) -> String {
+    format!("{call}: not available for 3D (dim = 3) runs yet; the session's particle data is 2D")
 }

@@ -1,0 +1,87 @@
+//! The 3D DEM examples (examples/dem3d) run and pass their checks, and their outputs
+//! follow the run contract: history with 3D wall loads, frames of 3D points, the side
+//! and top views.
+
+mod common;
+use common::*;
+
+fn run_dem3d_example(name: &str, checks: usize) -> serde_json::Value {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = grains(&[
+        "run",
+        example(&format!("dem3d/{name}.toml")).to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{name} failed: {}", o.stderr);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let all = s["checks"].as_array().unwrap();
+    assert_eq!(all.len(), checks, "{name}");
+    for c in all {
+        assert_eq!(c["pass"], true, "{name}: {c}");
+    }
+    for f in [
+        "plots/particles_side.png",
+        "plots/particles_top.png",
+        "plots/energies.png",
+        "frames/series.pvd",
+    ] {
+        assert!(out.join(f).is_file(), "{name}: no {f}");
+    }
+    let bytes = std::fs::read(out.join("frames/particles_00000.vtp")).unwrap();
+    let frame = String::from_utf8_lossy(&bytes);
+    assert!(
+        frame.contains("Name=\"omega\" NumberOfComponents=\"3\""),
+        "{name}"
+    );
+    assert!(
+        frame.contains("Name=\"stress\" NumberOfComponents=\"9\""),
+        "{name}"
+    );
+    s
+}
+
+#[test]
+fn chung_ooi_test1() {
+    run_dem3d_example("chung_ooi_test1", 4);
+}
+
+#[test]
+fn chung_ooi_test2() {
+    run_dem3d_example("chung_ooi_test2", 3);
+}
+
+#[test]
+fn chung_ooi_test3() {
+    run_dem3d_example("chung_ooi_test3", 4);
+}
+
+#[test]
+fn chung_ooi_test4() {
+    run_dem3d_example("chung_ooi_test4", 6);
+}
+
+#[test]
+fn chung_ooi_test5() {
+    run_dem3d_example("chung_ooi_test5", 6);
+}
+
+#[test]
+fn settling_column() {
+    let s = run_dem3d_example("settling_column", 1);
+    assert_eq!(s["status"], "at_rest");
+}
+
+#[test]
+fn check_reports_a_3d_scenario() {
+    let o = grains(&[
+        "check",
+        example("dem3d/settling_column.toml").to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    for what in ["3 (spheres)", "granular", "memory", "wall time"] {
+        assert!(o.stdout.contains(what), "{what} not in {}", o.stdout);
+    }
+}

@@ -1,0 +1,176 @@
+//! Bad values in a 3D DEM scenario (`dim = 3`), given to `run` and `check`.
+
+use super::{check_edit, run_edit, Case};
+
+/// A small 3D scenario that runs: one sphere just above a floor, under the granular law.
+const DEM3: &str = r#"engine = "dem"
+dim = 3
+name = "bad3"
+gravity = [0.0, 0.0, -9.81]
+
+[domain]
+lo = [0.0, 0.0, 0.0]
+hi = [0.01, 0.01, 0.01]
+
+[[material]]
+name = "glass"
+density = 2500.0
+youngs = 48.0e9
+poisson = 0.2
+restitution = 0.5
+friction = 0.3
+
+[contact]
+model = "granular"
+normal = "hertz/material"
+damping = "restitution"
+tangential = "mindlin"
+
+[[particles]]
+source = "list"
+material = "glass"
+spheres = [{ at = [0.005, 0.005, 0.0006], radius = 0.0005 }]
+
+[[wall]]
+shape = "plane"
+name = "floor"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+
+[run]
+duration = 1.0e-7
+"#;
+
+/// The issue's list (ν, E, e, μ, μ_r, k_r, vectors of the wrong length, overlaps at
+/// the start) and the keys of the 3D schema.
+pub fn values(all: &mut Vec<Case>) {
+    let rolling =
+        "tangential = \"mindlin\"\nrolling = \"sds\"\nkr = 10.0\ngamma_r = 0.0\nmu_r = 0.1";
+    let edits: &[(&str, &str, &[&str])] = &[
+        ("poisson = 0.2", "poisson = 0.5", &["poisson", "0.5"]),
+        ("poisson = 0.2", "poisson = -1.0", &["poisson"]),
+        ("youngs = 48.0e9", "youngs = 0.0", &["youngs"]),
+        ("youngs = 48.0e9", "youngs = -48.0e9", &["youngs"]),
+        ("restitution = 0.5", "restitution = 0.0", &["restitution"]),
+        ("restitution = 0.5", "restitution = 1.2", &["restitution"]),
+        ("friction = 0.3", "friction = -0.3", &["friction"]),
+        (
+            "tangential = \"mindlin\"",
+            &rolling.replace("mu_r = 0.1", "mu_r = -0.1"),
+            &["mu_r"],
+        ),
+        (
+            "tangential = \"mindlin\"",
+            &rolling.replace("kr = 10.0", "kr = -10.0"),
+            &["kr"],
+        ),
+        (
+            "tangential = \"mindlin\"",
+            &rolling.replace("gamma_r = 0.0\n", ""),
+            &["gamma_r"],
+        ),
+        (
+            "tangential = \"mindlin\"",
+            "tangential = \"mindlin\"\nrolling = \"spring\"",
+            &["rolling", "spring"],
+        ),
+        (
+            "tangential = \"mindlin\"",
+            "tangential = \"mindlin\"\ntwisting = \"sds\"",
+            &["twisting"],
+        ),
+        (
+            "tangential = \"mindlin\"",
+            "tangential = \"mindlin\"\nmu = -1.0",
+            &["contact.mu"],
+        ),
+        (
+            "tangential = \"mindlin\"",
+            "tangential = \"mindlin\"\nkn = 1.0e6",
+            &["contact.kn"],
+        ),
+        (
+            "damping = \"restitution\"",
+            "damping = \"viscoelastic\"",
+            &["contact.damp"],
+        ),
+        (
+            "damping = \"restitution\"",
+            "damping = \"tsuji\"\ndamp = 0.5",
+            &["contact.damp"],
+        ),
+        (
+            "damping = \"restitution\"",
+            "damping = \"hertzian\"",
+            &["hertzian"],
+        ),
+        (
+            "normal = \"hertz/material\"",
+            "normal = \"hertz\"",
+            &["hertz"],
+        ),
+        ("youngs = 48.0e9\n", "", &["youngs", "missing"]),
+        (
+            "model = \"granular\"",
+            "model = \"hooke_history\"",
+            &["normal"],
+        ),
+        ("model = \"granular\"", "model = \"jkr\"", &["jkr"]),
+        (
+            "gravity = [0.0, 0.0, -9.81]",
+            "gravity = [0.0, -9.81]",
+            &["gravity"],
+        ),
+        ("lo = [0.0, 0.0, 0.0]", "lo = [0.0, 0.0]", &["lo"]),
+        (
+            "at = [0.005, 0.005, 0.0006]",
+            "at = [0.005, 0.0006]",
+            &["at"],
+        ),
+        (
+            "normal = [0.0, 0.0, 1.0]",
+            "normal = [0.0, 1.0]",
+            &["normal"],
+        ),
+        (
+            "normal = [0.0, 0.0, 1.0]",
+            "normal = [0.0, 0.0, 0.0]",
+            &["normal"],
+        ),
+        (
+            "at = [0.005, 0.005, 0.0006]",
+            "at = [0.005, 0.005, 0.0001]",
+            &["floor"],
+        ),
+        (
+            "radius = 0.0005 }]",
+            "radius = 0.0005 }, { at = [0.0055, 0.005, 0.0006], radius = 0.0005 }]",
+            &["particles 0 and 1"],
+        ),
+        (
+            "at = [0.005, 0.005, 0.0006]",
+            "at = [0.005, 0.005, 0.02]",
+            &["particle 0"],
+        ),
+        ("dim = 3", "dim = 4", &["dim"]),
+        (
+            "hi = [0.01, 0.01, 0.01]",
+            "hi = [0.01, 0.01, 0.0]",
+            &["domain.hi.z"],
+        ),
+        ("radius = 0.0005 }]", "radius = -0.0005 }]", &["radius"]),
+    ];
+    for (from, to, expect) in edits {
+        all.push(run_edit(DEM3, from, to, expect));
+    }
+    for (from, to, expect) in &edits[..4] {
+        all.push(check_edit(DEM3, from, to, expect));
+    }
+    // A 2D scenario given a 3-vector.
+    all.push(run_edit(
+        super::DEM,
+        "gravity = [0.0, -9.81]",
+        "gravity = [0.0, -9.81, 0.0]",
+        &["gravity"],
+    ));
+}

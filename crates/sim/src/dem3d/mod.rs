@@ -1,0 +1,142 @@
+//! 3D DEM runs (`engine = "dem"` with `dim = 3`): spheres in [`grains_dem3d`], from the
+//! scenario ([`scenario`], in the 2D scenario's style) through its assembly ([`law`],
+//! [`assemble`]) to the [`Dem3`] simulation, its checks ([`probes`]), frames and plots
+//! ([`output`]) and its run ([`run`]). The driver, history, frame recorder, summary and
+//! the run contract are the ones every engine uses.
+
+pub mod assemble;
+pub mod law;
+pub mod output;
+pub mod probes;
+pub mod run;
+pub mod scenario;
+
+use crate::driver::{Clock, ParticleView, Simulation};
+use crate::history::Recorded;
+use crate::output::Capabilities;
+use grains_core::input::InputError;
+use grains_dem3d::diagnostics::{self, Diagnostics};
+use grains_dem3d::{step, Setup, State};
+use std::borrow::Cow;
+
+/// What a 3D DEM run writes, and its defaults.
+pub const CAPABILITIES: Capabilities = Capabilities {
+    engine: "dem",
+    frames: 50,
+    history: 2000,
+    checkpoints: false,
+    lammps_dump: false,
+    grid: false,
+};
+
+/// A running 3D DEM simulation.
+pub struct Dem3 {
+    /// Engine configuration (read-only).
+    pub setup: Setup,
+    /// The evolving state.
+    pub state: State,
+    /// Time step (s).
+    pub dt: f64,
+}
+
+impl Dem3 {
+    /// Starts a run, refusing spheres that overlap beyond the runaway limit at the start.
+    pub fn new(
+        setup: Setup,
+        particles: grains_dem3d::Particles,
+        dt: f64,
+    ) -> Result<Self, InputError> {
+        let state = State::new(&setup, particles);
+        if let Some((i, j, ratio)) = diagnostics::deepest_overlap(&setup, &state) {
+            let limit = crate::dem::RUNAWAY_OVERLAP;
+            if ratio > limit {
+                return Err(InputError::new(
+                    format!("particles {i} and {j}"),
+                    format!("overlap {ratio:.3} of the smaller radius at the start"),
+                    format!("spheres may overlap by at most {limit} of the smaller radius (the run's runaway limit); separate them"),
+                ));
+            }
+        }
+        Ok(Dem3 { setup, state, dt })
+    }
+}
+
+impl Simulation for Dem3 {
+    type Sample = Diagnostics;
+
+    fn clock(&self) -> Clock {
+        Clock {
+            time: self.state.time,
+            step: self.state.step,
+        }
+    }
+
+    fn advance(&mut self) -> Result<(), String> {
+        step(&self.setup, &mut self.state, self.dt);
+        Ok(())
+    }
+
+    fn sample(&mut self) -> Diagnostics {
+        diagnostics::measure(&self.setup, &self.state)
+    }
+
+    fn unstable(&self, d: &Diagnostics) -> Option<String> {
+        if !d.finite {
+            return Some("a position or velocity is not finite (NaN or infinity)".into());
+        }
+        let limit = crate::dem::RUNAWAY_OVERLAP;
+        (d.max_overlap_ratio > limit).then(|| {
+            format!(
+                "runaway overlap: {:.3} of a radius (limit {limit}); the time step is too large or the contacts too soft for the load",
+                d.max_overlap_ratio
+            )
+        })
+    }
+
+    /// The view is of 2D points, which a 3D run has not: it shows none (the run's
+    /// particles are in its frames and in [`Simulation::count`]).
+    fn particles(&self) -> ParticleView<'_> {
+        ParticleView {
+            id: &[],
+            pos: &[],
+            vel: &[],
+            radius: Cow::Borrowed(&[]),
+            mass: Cow::Borrowed(&[]),
+        }
+    }
+
+    fn count(&self) -> usize {
+        self.state.particles.len()
+    }
+
+    fn state_hash(&self) -> u64 {
+        diagnostics::state_hash(&self.state)
+    }
+}
+
+impl Recorded for Dem3 {
+    fn columns(&self) -> Vec<String> {
+        let walls: Vec<&str> = self.setup.walls.iter().map(|w| w.name.as_str()).collect();
+        crate::dem::records::columns(
+            &["x", "y", "z"],
+            &walls,
+            &["fx", "fy", "fz", "tx", "ty", "tz"],
+        )
+    }
+
+    fn integer_columns(&self) -> Vec<String> {
+        crate::dem::records::INTEGER_COLUMNS
+            .map(String::from)
+            .to_vec()
+    }
+
+    fn row(&self, d: &Diagnostics) -> Vec<f64> {
+        let s = &self.state;
+        let mut row = crate::dem::records::state_row!(s, d);
+        for load in s.wall_loads.iter().take(self.setup.walls.len()) {
+            row.extend(load.force.to_array());
+            row.extend(load.torque.to_array());
+        }
+        row
+    }
+}

@@ -1,0 +1,200 @@
+//! What a 3D run writes besides its history: ParaView frames of the spheres (3D points,
+//! vector velocity, ω and force, the 3 × 3 contact stress), and the plots: the history's
+//! (as in 2D) and the final spheres seen from the side (x–z) and from above (x–y), with
+//! the walls drawn.
+
+use super::Dem3;
+use crate::frames::Framed;
+use glam::{DVec2, DVec3};
+use grains_core::plot::{time_label, Outline, ParticleMap};
+use grains_core::vtk::{ArrayData, DataArray, PolyData};
+use grains_dem3d::{diagnostics, Setup, State, WallShape};
+use std::io;
+use std::path::Path;
+
+fn flat(v: &[DVec3]) -> Vec<f64> {
+    v.iter().flat_map(|x| x.to_array()).collect()
+}
+
+/// The spheres as VTK vertices with their fields.
+pub fn particles_polydata(setup: &Setup, s: &State) -> PolyData {
+    let p = &s.particles;
+    let stress = grains_dem3d::stress::particle_stress(setup, s);
+    let contacts = diagnostics::contact_counts(setup, s);
+    PolyData {
+        points: p.pos.iter().map(|x| x.to_array()).collect(),
+        verts: (0..p.len() as i64).map(|i| vec![i]).collect(),
+        point_data: vec![
+            DataArray::scalar_i64("id", p.id.iter().map(|&k| k as i64).collect()),
+            DataArray::scalar_f64("radius", p.radius.clone()),
+            DataArray::scalar_f64("mass", (0..p.len()).map(|i| p.mass(i)).collect()),
+            DataArray::vector3_f64("velocity", flat(&p.vel)),
+            DataArray::scalar_f64("speed", p.vel.iter().map(|v| v.length()).collect()),
+            DataArray::vector3_f64("omega", flat(&p.omega)),
+            DataArray::vector3_f64("force", flat(&p.force)),
+            DataArray::scalar_i32("contacts", contacts.iter().map(|&c| c as i32).collect()),
+            DataArray::scalar_i32("material", p.material.iter().map(|&m| m as i32).collect()),
+            // Row-major 3 × 3, as ParaView reads a 9-component array.
+            DataArray::new(
+                crate::dem::frames::STRESS_ARRAY,
+                9,
+                ArrayData::F64(
+                    stress
+                        .iter()
+                        .flat_map(|m| m.transpose().to_cols_array())
+                        .collect(),
+                ),
+            ),
+        ],
+        ..PolyData::default()
+    }
+}
+
+impl Framed for Dem3 {
+    fn write_frame(&self, dir: &Path, k: usize) -> io::Result<Vec<(&'static str, String)>> {
+        let name = format!("particles_{k:05}.vtp");
+        particles_polydata(&self.setup, &self.state).write(&dir.join(&name))?;
+        Ok(vec![("particles", name)])
+    }
+}
+
+/// A view: the two axes shown (indices into x, y, z) and the depth axis, looked at
+/// from its far end.
+struct View {
+    axes: [usize; 2],
+    depth: usize,
+    names: [&'static str; 2],
+    file: &'static str,
+    what: &'static str,
+}
+
+const VIEWS: [View; 2] = [
+    View {
+        axes: [0, 2],
+        depth: 1,
+        names: ["x", "z"],
+        file: "particles_side.png",
+        what: "from the side (along y)",
+    },
+    View {
+        axes: [0, 1],
+        depth: 2,
+        names: ["x", "y"],
+        file: "particles_top.png",
+        what: "from above (along z)",
+    },
+];
+
+/// The walls as seen in `v`, within the domain: planes seen edge-on as lines, cylinders
+/// along the view as circles and across it as their two sides, spheres as circles.
+fn outlines(setup: &Setup, v: &View) -> Vec<Outline> {
+    let (lo, hi) = (setup.domain.lo, setup.domain.hi);
+    let on = |p: DVec3| DVec2::new(p[v.axes[0]], p[v.axes[1]]);
+    let circle = |c: DVec3, r: f64| Outline {
+        points: (0..=128)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 128.0;
+                on(c) + r * DVec2::new(a.cos(), a.sin())
+            })
+            .collect(),
+        closed: false,
+    };
+    // The line through `p` along `u` (in view axes), cut to the domain's view.
+    let line = |p: DVec2, u: DVec2| -> Option<Outline> {
+        let (l, h) = (on(lo), on(hi));
+        let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
+        for a in 0..2 {
+            if u[a].abs() < 1e-12 {
+                if p[a] < l[a] || p[a] > h[a] {
+                    return None;
+                }
+                continue;
+            }
+            let (ta, tb) = ((l[a] - p[a]) / u[a], (h[a] - p[a]) / u[a]);
+            t0 = t0.max(ta.min(tb));
+            t1 = t1.min(ta.max(tb));
+        }
+        (t0 < t1).then(|| Outline {
+            points: vec![p + t0 * u, p + t1 * u],
+            closed: false,
+        })
+    };
+    let mut out = Vec::new();
+    for w in &setup.walls {
+        match w.shape {
+            WallShape::Plane { point, normal } => {
+                let n = DVec3::from(normal).normalize();
+                if n[v.depth].abs() < 1e-9 {
+                    let along = DVec2::new(-n[v.axes[1]], n[v.axes[0]]);
+                    out.extend(line(on(DVec3::from(point)), along));
+                }
+            }
+            WallShape::Sphere { centre, radius, .. } => {
+                out.push(circle(DVec3::from(centre), radius))
+            }
+            WallShape::Cylinder {
+                point,
+                axis,
+                radius,
+                ..
+            } => {
+                let u = DVec3::from(axis).normalize();
+                if (u[v.depth].abs() - 1.0).abs() < 1e-9 {
+                    out.push(circle(DVec3::from(point), radius));
+                } else if u[v.depth].abs() < 1e-9 {
+                    let along = on(u).normalize();
+                    let side = DVec2::new(-along.y, along.x) * radius;
+                    for s in [side, -side] {
+                        out.extend(line(on(DVec3::from(point)) + s, along));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Writes the history's plots and the two views of the final spheres.
+pub fn write_plots(
+    dir: &Path,
+    h: &grains_core::history::History,
+    setup: &Setup,
+    s: &State,
+) -> anyhow::Result<()> {
+    let walls: Vec<&str> = setup.walls.iter().map(|w| w.name.as_str()).collect();
+    let units = crate::dem::plots::Units {
+        energy: "J",
+        force: "N",
+        per: "",
+    };
+    crate::dem::plots::history_plots(dir, h, &walls, &["x", "y", "z"], &units)?;
+    let p = &s.particles;
+    for v in &VIEWS {
+        // The far spheres first, so the near ones are drawn over them.
+        let mut order: Vec<usize> = (0..p.len()).collect();
+        let toward: f64 = if v.depth == 1 { -1.0 } else { 1.0 };
+        order.sort_by(|&a, &b| {
+            (toward * p.pos[a][v.depth]).total_cmp(&(toward * p.pos[b][v.depth]))
+        });
+        let centres: Vec<DVec2> = order
+            .iter()
+            .map(|&i| DVec2::new(p.pos[i][v.axes[0]], p.pos[i][v.axes[1]]))
+            .collect();
+        let radii: Vec<f64> = order.iter().map(|&i| p.radius[i]).collect();
+        let speed: Vec<f64> = order.iter().map(|&i| p.vel[i].length()).collect();
+        ParticleMap {
+            title: &format!(
+                "Spheres at t = {} seen {}, coloured by speed",
+                time_label(s.time),
+                v.what
+            ),
+            centres: &centres,
+            radii: &radii,
+            values: &speed,
+            value_label: "speed (m/s)",
+            outlines: &outlines(setup, v),
+        }
+        .write_png_axes(&dir.join(v.file), v.names)?;
+    }
+    Ok(())
+}

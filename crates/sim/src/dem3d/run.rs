@@ -1,0 +1,203 @@
+//! A 3D DEM run from its scenario to its summary, through the driver every engine uses,
+//! and what `grains check` prints for it.
+
+use super::assemble::{assemble, Assembled};
+use super::probes::Probes;
+use super::scenario::{Scenario, SphereSource};
+use super::{Dem3, CAPABILITIES};
+use crate::check::{Derived, Line};
+use crate::dem::rest::RestDetector;
+use crate::driver::{Counters, Every, Flow, Observer, Outcome, Stepper};
+use crate::estimate::{rate, Estimate};
+use crate::frames::FrameRecorder;
+use crate::history::HistoryRecorder;
+use crate::run::{finish, fresh_out, summary, Costs, Finished, Live, RunError, RunOptions};
+use crate::source::Source;
+use grains_core::history::History;
+use grains_dem3d::diagnostics::Diagnostics;
+use std::path::PathBuf;
+
+/// Bytes per sphere: state (≈ 170 B), neighbour list with granular history (≈ 6
+/// entries × 130 B), bookkeeping, and one wall spring and history per wall.
+fn bytes_per_sphere(walls: usize) -> u64 {
+    1000 + 100 * walls as u64
+}
+
+/// The spheres the scenario's sources hold, counted without building them.
+pub fn count(s: &Scenario) -> u64 {
+    s.particles
+        .iter()
+        .map(|p| match p {
+            SphereSource::List { spheres, .. } => spheres.len() as u64,
+            SphereSource::Lattice { count, .. } | SphereSource::Random { count, .. } => {
+                *count as u64
+            }
+        })
+        .sum()
+}
+
+/// What a run of `n` spheres over `steps` steps costs (a sphere step costs about three
+/// disk steps: a 27-cell stencil and three components).
+pub fn cost(n: u64, walls: usize, steps: u64, threads: usize) -> Estimate {
+    Estimate::new(
+        n,
+        steps,
+        n * bytes_per_sphere(walls) + (1 << 20),
+        rate::DEM / 3.0,
+        threads,
+    )
+}
+
+/// Refuses a run too large for memory before anything is built.
+fn fits(s: &Scenario, src: &Source, threads: usize) -> Result<(), String> {
+    cost(count(s), s.walls.len() * 6, 0, threads).fits_memory(&format!("{}: particles", src.origin))
+}
+
+/// What `grains check` prints for a 3D scenario.
+pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, String> {
+    fits(s, src, threads)?;
+    let a = assemble(s).map_err(|e| format!("{}: {e}", src.origin))?;
+    let n = a.particles.len() as u64;
+    let walls = a.setup.walls.len();
+    let law = if a.setup.granular.is_some() {
+        "granular"
+    } else {
+        "hooke_history"
+    };
+    let mut d = crate::dem::check::lines(
+        (&s.name, &s.description),
+        vec![
+            Line::new("dimensions", 3, "3 (spheres)"),
+            Line::new("contact_law", law, law),
+        ],
+        &[n, a.setup.materials.len() as u64, walls as u64],
+        (a.dt, a.dt_critical, s.run.duration, a.steps),
+        a.setup.skin,
+    );
+    d.cost(&cost(n, walls, a.steps, threads));
+    Ok(d)
+}
+
+/// A 3D run in progress.
+pub struct Dem3Run {
+    /// The simulation.
+    pub sim: Dem3,
+    stepper: Stepper,
+    history: HistoryRecorder,
+    frames: FrameRecorder,
+    probes: Probes,
+    rest: Option<RestDetector>,
+    name: String,
+    out: PathBuf,
+    dt_critical: f64,
+}
+
+/// Prepares the run of `s` (read from `src`) into `opts.out`.
+pub fn open(s: &Scenario, src: &Source, opts: &mut RunOptions) -> Result<Dem3Run, RunError> {
+    let input = |e: grains_core::input::InputError| RunError::Input(format!("{}: {e}", src.origin));
+    fits(s, src, opts.threads).map_err(RunError::Input)?;
+    let Assembled {
+        setup,
+        particles,
+        dt,
+        dt_critical,
+        steps,
+        restitution,
+    } = assemble(s).map_err(input)?;
+    let mut sim = Dem3::new(setup, particles, dt).map_err(input)?;
+    let plan = s.output.plan_by_steps(&CAPABILITIES, steps);
+    let out = opts.out.clone();
+    opts.progress.announce(&format!(
+        "{} (dem, 3D) — {} spheres, dt = {:.3e} s, {} steps, {} threads → {}",
+        s.name,
+        sim.state.particles.len(),
+        dt,
+        steps,
+        opts.threads,
+        out.display()
+    ));
+    let e = cost(
+        sim.state.particles.len() as u64,
+        sim.setup.walls.len(),
+        steps,
+        opts.threads,
+    );
+    if let Some(w) = e.warning() {
+        opts.progress.announce(&format!("warning: {w}"));
+    }
+    fresh_out(&out, &src.text)?;
+    let mut history = HistoryRecorder::create(&out, &mut sim)?;
+    let mut frames = FrameRecorder::create(&out, &sim).map_err(anyhow::Error::from)?;
+    let mut probes = Probes::new(&sim, &s.checks, restitution);
+    let mut rest = s.run.stop_kinetic_ratio.map(|ratio| {
+        let p = &sim.state.particles;
+        let n = p.len();
+        let mean_d = 2.0 * p.radius.iter().sum::<f64>() / n as f64;
+        let weight: f64 = (0..n).map(|i| p.mass(i)).sum::<f64>() * sim.setup.gravity.length();
+        let every = match plan.samples {
+            Every::Steps(k) => k,
+            Every::Time(_) => 1,
+        };
+        let hold = s.run.stop_rest_time.unwrap_or(20.0 * every as f64 * dt);
+        RestDetector::with_limit(ratio * weight * mean_d, hold)
+    });
+    let stepper = {
+        let mut observers: Vec<&mut dyn Observer<Dem3>> =
+            vec![&mut history, &mut frames, &mut probes];
+        observers.extend(rest.as_mut().map(|r| r as &mut dyn Observer<Dem3>));
+        Stepper::start(&sim, &mut observers, plan.clone(), Counters::fresh(&plan))?
+    };
+    Ok(Dem3Run {
+        sim,
+        stepper,
+        history,
+        frames,
+        probes,
+        rest,
+        name: s.name.clone(),
+        out,
+        dt_critical,
+    })
+}
+
+impl Live for Dem3Run {
+    type S = Dem3;
+
+    fn parts(&mut self) -> (&mut Dem3, &mut Stepper, Vec<&mut dyn Observer<Dem3>>) {
+        let mut o: Vec<&mut dyn Observer<Dem3>> =
+            vec![&mut self.history, &mut self.frames, &mut self.probes];
+        o.extend(self.rest.as_mut().map(|r| r as &mut dyn Observer<Dem3>));
+        (&mut self.sim, &mut self.stepper, o)
+    }
+
+    fn history(&self) -> &History {
+        &self.history.history
+    }
+
+    fn conclude(&mut self, outcome: Outcome, threads: usize) -> Result<Finished, RunError> {
+        let (sim, out) = (&self.sim, &self.out);
+        super::output::write_plots(
+            &out.join("plots"),
+            &self.history.history,
+            &sim.setup,
+            &sim.state,
+        )?;
+        let mut counts = serde_json::Map::new();
+        counts.insert("dimensions".into(), 3.into());
+        counts.insert("neighbour_builds".into(), sim.state.contacts.builds.into());
+        let costs = Costs {
+            dt: sim.dt,
+            dt_critical: self.dt_critical,
+            threads,
+            frames: self.frames.count(),
+        };
+        let sum = summary(&self.name, "dem", sim, &outcome, costs, counts);
+        finish(sum, outcome.status, out)
+    }
+}
+
+impl Observer<Dem3> for RestDetector {
+    fn on_sample(&mut self, sim: &Dem3, d: &Diagnostics) -> anyhow::Result<Flow> {
+        Ok(self.judge(sim.state.time, d.kinetic()))
+    }
+}

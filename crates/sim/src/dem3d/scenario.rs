@@ -1,0 +1,370 @@
+//! The 3D DEM scenario (`engine = "dem"`, `dim = 3`): spheres, walls and contact laws
+//! per material pair, in the 2D scenario's style (its `[run]`, `[output]`, radius
+//! distributions and materials are the same tables), parsed strictly.
+
+use crate::dem::scenario::{RadiusSpec, RunSpec};
+use grains_dem3d::granular::{Damping, Tangential};
+use grains_dem3d::Material;
+use serde::{Deserialize, Serialize};
+
+/// A whole 3D scenario file.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// `"dem"`.
+    #[serde(default)]
+    pub engine: Option<String>,
+    /// 3.
+    pub dim: u32,
+    /// Name of the run; the default output directory is `runs/<name>`.
+    pub name: String,
+    /// Free text shown by `grains check`.
+    #[serde(default)]
+    pub description: String,
+    /// Simulation box.
+    pub domain: DomainSpec,
+    /// Gravitational acceleration (m/s²), three components.
+    #[serde(default)]
+    pub gravity: [f64; 3],
+    /// The contact law of every pair, and the pairs that have their own.
+    pub contact: LawSpec,
+    /// Materials, referred to by name.
+    #[serde(rename = "material")]
+    pub materials: Vec<Material>,
+    /// Groups of spheres.
+    #[serde(rename = "particles", default)]
+    pub particles: Vec<SphereSource>,
+    /// Rigid walls.
+    #[serde(rename = "wall", default)]
+    pub walls: Vec<WallSpec>,
+    /// Time stepping and stopping (as in 2D).
+    pub run: RunSpec,
+    /// What is written and how often.
+    #[serde(default)]
+    pub output: crate::output::OutputSpec,
+    /// Validation checks written into summary.json.
+    #[serde(rename = "check", default)]
+    pub checks: Vec<CheckSpec>,
+}
+
+/// `[domain]`: box corners and periodicity along x, y, z.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DomainSpec {
+    /// Lower corner (m).
+    pub lo: [f64; 3],
+    /// Upper corner (m).
+    pub hi: [f64; 3],
+    /// Periodicity along x, y and z.
+    #[serde(default)]
+    pub periodic: [bool; 3],
+}
+
+/// Which law a `[contact]` table (or one of its `[[contact.pair]]`) gives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LawModel {
+    /// LAMMPS `gran/hooke/history kn kt γn γt μ` (the linear law, as in 2D).
+    HookeHistory,
+    /// LAMMPS `pair_style granular` with the keywords below.
+    Granular,
+}
+
+/// The normal model of the granular law, spelled as LAMMPS spells it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum NormalSpec {
+    /// `hooke k_n damp`.
+    #[serde(rename = "hooke")]
+    Hooke,
+    /// `hertz/material E damp ν`, E and ν from the materials.
+    #[serde(rename = "hertz/material")]
+    HertzMaterial,
+}
+
+/// `[contact]`: a contact law with LAMMPS's keywords. The whole table applies to every
+/// pair; a `[[contact.pair]]` (with `materials`) gives one pair its own law.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LawSpec {
+    /// `"hooke_history"` or `"granular"`.
+    pub model: Option<LawModel>,
+    /// The pair this law is for (only in `[[contact.pair]]`).
+    #[serde(default)]
+    pub materials: Option<[String; 2]>,
+    /// hooke_history: normal stiffness (N/m); granular `hooke`: k_n.
+    #[serde(default)]
+    pub kn: Option<f64>,
+    /// Tangential stiffness (N/m; `mindlin`: the factor of a, Pa, default 8G*).
+    #[serde(default)]
+    pub kt: Option<f64>,
+    /// hooke_history: normal damping rate γn (1/s).
+    #[serde(default)]
+    pub gamma_n: Option<f64>,
+    /// hooke_history: tangential damping rate γt (1/s).
+    #[serde(default)]
+    pub gamma_t: Option<f64>,
+    /// Friction coefficient (granular: default the materials' `friction`, mixed as the
+    /// geometric mean).
+    #[serde(default)]
+    pub mu: Option<f64>,
+    /// granular: normal model.
+    #[serde(default)]
+    pub normal: Option<NormalSpec>,
+    /// granular: damping model (`tsuji`, `restitution` (α solved for e), `viscoelastic`,
+    /// `velocity`, `mass_velocity`).
+    #[serde(default)]
+    pub damping: Option<Damping>,
+    /// granular: η₀ of `velocity`, `mass_velocity`, `viscoelastic`.
+    #[serde(default)]
+    pub damp: Option<f64>,
+    /// granular: restitution of `tsuji` and `restitution` (default the materials',
+    /// mixed as the geometric mean).
+    #[serde(default)]
+    pub restitution: Option<f64>,
+    /// granular: tangential model.
+    #[serde(default)]
+    pub tangential: Option<Tangential>,
+    /// granular: tangential damping over normal damping (default 1).
+    #[serde(default)]
+    pub x_gamma_t: Option<f64>,
+    /// granular: `"sds"` rolling resistance with `kr`, `gamma_r`, `mu_r`.
+    #[serde(default)]
+    pub rolling: Option<String>,
+    /// Rolling stiffness k_r (N/m).
+    #[serde(default)]
+    pub kr: Option<f64>,
+    /// Rolling damping γ_r (N s/m).
+    #[serde(default)]
+    pub gamma_r: Option<f64>,
+    /// Rolling friction μ_r.
+    #[serde(default)]
+    pub mu_r: Option<f64>,
+    /// granular: `"marshall"` twisting resistance.
+    #[serde(default)]
+    pub twisting: Option<String>,
+    /// Clamp the normal force at zero.
+    #[serde(default)]
+    pub limit_damping: bool,
+    /// Pairs with their own law.
+    #[serde(default)]
+    pub pair: Vec<LawSpec>,
+}
+
+/// A region spheres are placed in.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+#[serde(tag = "shape", rename_all = "snake_case", deny_unknown_fields)]
+pub enum RegionSpec {
+    /// An axis-aligned box.
+    Box {
+        /// Lower corner (m).
+        lo: [f64; 3],
+        /// Upper corner (m).
+        hi: [f64; 3],
+    },
+    /// A vertical cylinder (axis along z) standing on `base`.
+    Cylinder {
+        /// Centre of its bottom face (m).
+        base: [f64; 3],
+        /// Radius (m).
+        radius: f64,
+        /// Height (m).
+        height: f64,
+    },
+}
+
+/// One `[[particles]]` group of spheres.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(tag = "source", rename_all = "snake_case", deny_unknown_fields)]
+pub enum SphereSource {
+    /// Spheres listed one by one.
+    List {
+        /// Material name.
+        material: String,
+        /// The spheres.
+        spheres: Vec<SphereSpec>,
+    },
+    /// A region filled layer by layer from the bottom (z) on a cubic lattice of pitch
+    /// `spacing` × the largest diameter.
+    Lattice {
+        /// Material name.
+        material: String,
+        /// Region to fill.
+        region: RegionSpec,
+        /// Number of spheres.
+        count: usize,
+        /// Radius distribution.
+        radius: RadiusSpec,
+        /// Lattice pitch over the largest diameter (≥ 1).
+        #[serde(default = "default_spacing")]
+        spacing: f64,
+        /// Random initial speeds up to this value (m/s).
+        #[serde(default)]
+        speed: f64,
+        /// Random seed.
+        #[serde(default)]
+        seed: u64,
+    },
+    /// Spheres at random places in a region, none overlapping another or the region's
+    /// edge.
+    Random {
+        /// Material name.
+        material: String,
+        /// Region to fill.
+        region: RegionSpec,
+        /// Number of spheres.
+        count: usize,
+        /// Radius distribution.
+        radius: RadiusSpec,
+        /// Random seed.
+        #[serde(default)]
+        seed: u64,
+    },
+}
+
+fn default_spacing() -> f64 {
+    1.05
+}
+
+/// One sphere of a `list` group.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereSpec {
+    /// Centre (m).
+    pub at: [f64; 3],
+    /// Radius (m).
+    pub radius: f64,
+    /// Initial velocity (m/s).
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    /// Initial angular velocity (rad/s).
+    #[serde(default)]
+    pub omega: [f64; 3],
+}
+
+/// One `[[wall]]`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(tag = "shape", rename_all = "snake_case", deny_unknown_fields)]
+pub enum WallSpec {
+    /// The infinite plane through `point` with normal `normal`.
+    Plane {
+        /// Name (history columns `<name>_fx`, ...).
+        name: String,
+        /// Material name; default: each particle's own.
+        #[serde(default)]
+        material: Option<String>,
+        /// A point of the plane (m).
+        point: [f64; 3],
+        /// Its normal.
+        normal: [f64; 3],
+    },
+    /// The six faces of an axis-aligned box, particles inside: walls `<name>_xlo`,
+    /// `<name>_xhi`, ..., `<name>_zhi`.
+    Box {
+        /// Name prefix.
+        name: String,
+        /// Material name.
+        #[serde(default)]
+        material: Option<String>,
+        /// Lower corner (m).
+        lo: [f64; 3],
+        /// Upper corner (m).
+        hi: [f64; 3],
+    },
+    /// An infinite cylinder; `inside = true` keeps particles inside.
+    Cylinder {
+        /// Name.
+        name: String,
+        /// Material name.
+        #[serde(default)]
+        material: Option<String>,
+        /// A point on the axis (m).
+        point: [f64; 3],
+        /// Axis direction.
+        axis: [f64; 3],
+        /// Radius (m).
+        radius: f64,
+        /// Particles live inside.
+        inside: bool,
+    },
+    /// A sphere; `inside = true` keeps particles inside.
+    Sphere {
+        /// Name.
+        name: String,
+        /// Material name.
+        #[serde(default)]
+        material: Option<String>,
+        /// Centre (m).
+        centre: [f64; 3],
+        /// Radius (m).
+        radius: f64,
+        /// Particles live inside.
+        inside: bool,
+    },
+}
+
+/// What a collision check measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Measure {
+    /// Largest overlap, against Hertz's δ_max.
+    MaxOverlap,
+    /// Largest contact force, against Hertz's F_max.
+    PeakForce,
+    /// Time in contact, against Hertz's t_c.
+    ContactTime,
+    /// −v_n(after)/v_n(before), against the pair's e.
+    Restitution,
+    /// Tangential speed after, against the rigid-body sliding limit v_t − μ(1 + e)v_n.
+    TangentialVelocity,
+    /// Spin ωR after, against the rigid-body sliding limit μ(1 + e)v_n / K.
+    AngularVelocity,
+}
+
+/// One `[[check]]`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum CheckSpec {
+    /// The first collision of `particle` with `partner` (another particle) or `wall`.
+    Collision {
+        /// Check name.
+        name: String,
+        /// What is measured.
+        measure: Measure,
+        /// The particle (creation order, from 0).
+        particle: u32,
+        /// The other particle.
+        #[serde(default)]
+        partner: Option<u32>,
+        /// Or the wall.
+        #[serde(default)]
+        wall: Option<String>,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
+    /// Force on a wall against gravity at the end, over the total weight (expected 1).
+    WallForceOverWeight {
+        /// Check name.
+        name: String,
+        /// Wall name.
+        wall: String,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
+}
+
+impl CheckSpec {
+    /// The check's name.
+    pub fn name(&self) -> &str {
+        match self {
+            CheckSpec::Collision { name, .. } | CheckSpec::WallForceOverWeight { name, .. } => name,
+        }
+    }
+
+    /// The relative tolerance.
+    pub fn tolerance(&self) -> f64 {
+        match self {
+            CheckSpec::Collision { tolerance, .. }
+            | CheckSpec::WallForceOverWeight { tolerance, .. } => *tolerance,
+        }
+    }
+}
