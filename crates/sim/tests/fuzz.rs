@@ -230,6 +230,7 @@ proptest! {
 const CHECKED: &[&str] = &[
     "dem/head_on.toml",
     "dem/oblique_impact.toml",
+    "dem3d/chung_ooi_test2.toml",
     "mpm/j2_simple_shear.toml",
     "mpm/maxwell_relaxation.toml",
     "mpm/thermal_free_expansion.toml",

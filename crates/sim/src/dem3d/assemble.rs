@@ -408,14 +408,17 @@ fn add_group(
             let cell = 2.0 * rmax;
             let index = |p: DVec3| ((p - lo) / cell).floor().as_ivec3();
             let mut grid: HashMap<glam::IVec3, Vec<(DVec3, f64)>> = HashMap::new();
-            let (mut placed, mut tries) = (0usize, 0usize);
+            let (mut placed, mut tries, mut misses) = (0usize, 0usize, 0usize);
             while placed < *count {
                 tries += 1;
-                if tries > 1000 * count + 10_000 {
+                misses += 1;
+                // Room is found ever more rarely as the region fills: 10⁵ misses in a row
+                // mean it is (nearly) full.
+                if misses > 100_000 {
                     return Err(InputError::new(
                         format!("{key}.count"),
                         count,
-                        format!("only {placed} spheres found room in the region after {tries} random tries; lower the count or enlarge the region"),
+                        format!("only {placed} spheres found room in the region after {tries} random tries (the last 100000 in vain); lower the count or enlarge the region"),
                     ));
                 }
                 let r = if rmax > rmin {
@@ -452,6 +455,7 @@ fn add_group(
                         &format!("sphere {placed}"),
                     )?;
                     placed += 1;
+                    misses = 0;
                 }
             }
         }
@@ -464,7 +468,8 @@ fn starts_inside(setup: &Setup, p: &Particles) -> Result<(), InputError> {
     let d = &setup.domain;
     for i in 0..p.len() {
         let x = p.pos[i];
-        if let Some(a) = (0..3).find(|&a| !d.periodic[a] && !(x[a] >= d.lo[a] && x[a] <= d.hi[a])) {
+        let outside = |a: usize| !(d.periodic[a] || x[a] >= d.lo[a] && x[a] <= d.hi[a]);
+        if let Some(a) = (0..3).find(|&a| outside(a)) {
             return Err(InputError::new(
                 format!("particle {} at {:?}", p.id[i], x.to_array()),
                 format!("{} = {}", AXES[a], x[a].shown()),
@@ -477,10 +482,10 @@ fn starts_inside(setup: &Setup, p: &Particles) -> Result<(), InputError> {
         }
     }
     let cut = 2.0 * (2.0 * p.max_radius() + setup.skin);
-    for a in 0..3 {
+    for (a, axis) in AXES.iter().enumerate() {
         if d.periodic[a] && d.length()[a] < cut {
             return Err(InputError::new(
-                format!("domain.hi.{}", AXES[a]),
+                format!("domain.hi.{axis}"),
                 d.hi[a],
                 format!("a periodic length must be at least 2 × (largest diameter + skin) = {cut:.4e} m"),
             ));

@@ -100,7 +100,7 @@ fn validate_shape(c: &LawSpec, materials: &[Material]) -> Result<(), InputError>
                 "pairs hold no pairs",
             ));
         }
-        if law_of(c, &pair[0], &pair[1]).0 as *const LawSpec != p as *const LawSpec {
+        if !std::ptr::eq(law_of(c, &pair[0], &pair[1]).0, p) {
             return Err(InputError::new(
                 format!("{key}.materials"),
                 format!("{pair:?}"),
@@ -375,8 +375,8 @@ pub fn resolve(c: &LawSpec, materials: &[Material]) -> Result<Laws, InputError> 
         });
     }
     let mut laws = Vec::with_capacity(n * n);
-    for a in &materials[..] {
-        for b in &materials[..] {
+    for a in materials {
+        for b in materials {
             let (l, key) = law_of(c, &a.name, &b.name);
             laws.push(granular(l, &key, a, b)?);
         }
