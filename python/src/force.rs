@@ -7,7 +7,7 @@
 use crate::arrays::{read_scalars, read_vec2};
 use crate::sim::{InStep, Simulation};
 use grains_sim::forces::{ForceError, OutsideForce};
-use grains_sim::session::data::{id_order, ParticleData};
+use grains_sim::session::data::{IdOrder, ParticleData};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use std::sync::Arc;
@@ -42,12 +42,12 @@ impl OutsideForce for PyForce {
                 ),
                 _ => (read_vec2(&r, call, "force", n)?, None),
             };
-            for (k, &i) in id_order(&p.id).iter().enumerate() {
+            IdOrder::of(&p.id).each(&p.id, |i, k| {
                 p.force[i] += f[k];
                 if let Some(t) = &t {
                     p.torque[i] += t[k];
                 }
-            }
+            });
             Ok(())
         })
         .map_err(|e| Box::new(e) as ForceError)

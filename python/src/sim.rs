@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::panic::AssertUnwindSafe;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, TryLockError};
 use std::time::Instant;
 
@@ -30,6 +30,9 @@ pub struct Simulation {
     broken: AtomicBool,
     /// Weak references to the owners of the arrays views handed out.
     handed_out: Mutex<Vec<Py<PyAny>>>,
+    /// Steps per chunk between signal checks, learnt across calls: a run with a callback
+    /// every few steps would otherwise start again at one step each time.
+    chunk: AtomicU64,
 }
 
 /// The particles in id order (copies); fields the engine has not are None.
@@ -145,6 +148,7 @@ impl Simulation {
             in_step: Mutex::new(None),
             broken: AtomicBool::new(false),
             handed_out: Mutex::new(Vec::new()),
+            chunk: AtomicU64::new(1),
         }
     }
 
@@ -245,7 +249,7 @@ impl Simulation {
     ) -> PyResult<Option<Status>> {
         self.no_arrays_out(py)?;
         let mut left = n;
-        let mut chunk = 1u64;
+        let mut chunk = self.chunk.load(Ordering::Relaxed);
         while left > 0 {
             let k = chunk.min(left);
             let started = Instant::now();
@@ -263,9 +267,16 @@ impl Simulation {
             }
             left -= k;
             py.check_signals()?;
-            // Chunks of about 20 ms: Ctrl-C answers quickly, the checks cost nothing.
-            if started.elapsed().as_secs_f64() < 0.02 {
-                chunk = chunk.saturating_mul(2);
+            // Chunks of 20 to 80 ms: Ctrl-C answers quickly, the checks cost nothing.
+            // Only a full chunk says how long one takes.
+            if k == chunk {
+                let took = started.elapsed().as_secs_f64();
+                if took < 0.02 {
+                    chunk = chunk.saturating_mul(2);
+                } else if took > 0.08 && chunk > 1 {
+                    chunk /= 2;
+                }
+                self.chunk.store(chunk, Ordering::Relaxed);
             }
         }
         Ok(None)

@@ -50,40 +50,123 @@ pub fn id_order(ids: &[u32]) -> Vec<usize> {
     order
 }
 
-/// `values` taken in `order` (in parallel: the reads jump through memory).
-pub fn gather<T: Copy + Send + Sync>(values: &[T], order: &[usize]) -> Vec<T> {
-    use rayon::prelude::*;
-    order.par_iter().map(|&i| values[i]).collect()
+/// How a storage order maps to id order, found once per copy.
+pub enum IdOrder {
+    /// The ids are a permutation of 0..n (the engines' creation ids): the particle stored
+    /// at i belongs in slot `ids[i]`, so a copy is one pass of sequential reads.
+    Dense,
+    /// Any other ids: `order[k]` is the storage index of the k-th smallest id.
+    Sorted(Vec<usize>),
+}
+
+impl IdOrder {
+    /// Tells dense ids from others in one parallel pass over a bitmap of n bits (it stays
+    /// in cache where an index array of n entries would not).
+    pub fn of(ids: &[u32]) -> Self {
+        use rayon::prelude::*;
+        use std::sync::atomic::{AtomicU64, Ordering};
+        let n = ids.len();
+        let seen: Vec<AtomicU64> = (0..n.div_ceil(64)).map(|_| AtomicU64::new(0)).collect();
+        let dense = ids.par_iter().with_min_len(4096).all(|&id| {
+            let id = id as usize;
+            id < n && {
+                let bit = 1u64 << (id % 64);
+                seen[id / 64].fetch_or(bit, Ordering::Relaxed) & bit == 0
+            }
+        });
+        if dense {
+            IdOrder::Dense
+        } else {
+            IdOrder::Sorted(id_order(ids))
+        }
+    }
+
+    /// `value(i)` of every stored particle i, in id order.
+    #[allow(unsafe_code)] // the dense case writes each slot once from several threads
+    pub fn arrange<T: Send + Sync>(
+        &self,
+        ids: &[u32],
+        value: impl Fn(usize) -> T + Sync,
+    ) -> Vec<T> {
+        use rayon::prelude::*;
+        match self {
+            IdOrder::Sorted(order) => order.par_iter().map(|&i| value(i)).collect(),
+            IdOrder::Dense => {
+                let n = ids.len();
+                let mut out: Vec<T> = Vec::with_capacity(n);
+                let slots = Slots(out.as_mut_ptr());
+                ids.par_iter()
+                    .with_min_len(4096)
+                    .enumerate()
+                    .for_each(|(i, &id)| {
+                        // SAFETY: `of` found the ids a permutation of 0..n, so each of the
+                        // n slots of the allocation is written exactly once, by one thread.
+                        unsafe { slots.put(id as usize, value(i)) }
+                    });
+                // SAFETY: all n slots are written (above).
+                unsafe { out.set_len(n) };
+                out
+            }
+        }
+    }
+
+    /// Calls `f(i, k)` for each stored particle i and its place k in id order.
+    pub fn each(&self, ids: &[u32], mut f: impl FnMut(usize, usize)) {
+        match self {
+            IdOrder::Dense => ids
+                .iter()
+                .enumerate()
+                .for_each(|(i, &id)| f(i, id as usize)),
+            IdOrder::Sorted(order) => order.iter().enumerate().for_each(|(k, &i)| f(i, k)),
+        }
+    }
+}
+
+/// An output buffer written at disjoint places from several threads.
+struct Slots<T>(*mut T);
+
+// SAFETY: the buffer is only written, each place by one thread (`IdOrder::arrange`).
+#[allow(unsafe_code)]
+unsafe impl<T: Send> Sync for Slots<T> {}
+
+#[allow(unsafe_code)]
+impl<T> Slots<T> {
+    /// Writes `v` at place `k` without reading or dropping what was there.
+    ///
+    /// # Safety
+    /// `k` is inside the allocation and no other thread writes place `k`.
+    unsafe fn put(&self, k: usize, v: T) {
+        self.0.add(k).write(v)
+    }
 }
 
 impl ParticleData {
     /// DEM particles (a DEM run's, or a FEM–DEM run's ring) in id order.
     pub fn of_dem(p: &Particles) -> Self {
-        let o = id_order(&p.id);
+        let ids = &p.id;
+        let o = IdOrder::of(ids);
         ParticleData {
-            id: gather(&p.id, &o),
-            pos: gather(&p.pos, &o),
-            vel: gather(&p.vel, &o),
-            omega: Some(gather(&p.omega, &o)),
-            radius: gather(&p.radius, &o),
-            mass: {
-                use rayon::prelude::*;
-                o.par_iter().map(|&i| p.mass(i)).collect()
-            },
-            force: Some(gather(&p.force, &o)),
-            torque: Some(gather(&p.torque, &o)),
+            id: o.arrange(ids, |i| ids[i]),
+            pos: o.arrange(ids, |i| p.pos[i]),
+            vel: o.arrange(ids, |i| p.vel[i]),
+            omega: Some(o.arrange(ids, |i| p.omega[i])),
+            radius: o.arrange(ids, |i| p.radius[i]),
+            mass: o.arrange(ids, |i| p.mass(i)),
+            force: Some(o.arrange(ids, |i| p.force[i])),
+            torque: Some(o.arrange(ids, |i| p.torque[i])),
         }
     }
 
     /// Any engine's particles as the driver sees them, in id order.
     pub fn of_view(v: &crate::driver::ParticleView) -> Self {
-        let o = id_order(v.id);
+        let ids = v.id;
+        let o = IdOrder::of(ids);
         ParticleData {
-            id: gather(v.id, &o),
-            pos: gather(v.pos, &o),
-            vel: gather(v.vel, &o),
-            radius: gather(&v.radius, &o),
-            mass: gather(&v.mass, &o),
+            id: o.arrange(ids, |i| ids[i]),
+            pos: o.arrange(ids, |i| v.pos[i]),
+            vel: o.arrange(ids, |i| v.vel[i]),
+            radius: o.arrange(ids, |i| v.radius[i]),
+            mass: o.arrange(ids, |i| v.mass[i]),
             ..Default::default()
         }
     }
@@ -167,21 +250,19 @@ pub struct Points {
 impl Points {
     /// The points of `p`, in id order.
     pub fn of(p: &grains_mpm::Particles) -> Self {
-        let o = id_order(&p.id);
+        let ids = &p.id;
+        let o = IdOrder::of(ids);
         Points {
-            id: gather(&p.id, &o),
-            body: gather(&p.body, &o),
-            pos: gather(&p.pos, &o),
-            vel: gather(&p.vel, &o),
-            mass: gather(&p.mass, &o),
-            volume: o.iter().map(|&i| p.volume(i)).collect(),
-            stress: o
-                .iter()
-                .map(|&i| {
-                    let s = p.stress[i];
-                    [s.xx, s.yy, s.xy]
-                })
-                .collect(),
+            id: o.arrange(ids, |i| ids[i]),
+            body: o.arrange(ids, |i| p.body[i]),
+            pos: o.arrange(ids, |i| p.pos[i]),
+            vel: o.arrange(ids, |i| p.vel[i]),
+            mass: o.arrange(ids, |i| p.mass[i]),
+            volume: o.arrange(ids, |i| p.volume(i)),
+            stress: o.arrange(ids, |i| {
+                let s = p.stress[i];
+                [s.xx, s.yy, s.xy]
+            }),
         }
     }
 }
@@ -237,4 +318,34 @@ pub fn dem_field<'a>(p: &'a Particles, name: &str) -> Option<Field<'a>> {
         "force" => Field::Vector(&p.force),
         _ => return None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::IdOrder;
+
+    /// Both paths give the values sorted by id, and `each` pairs storage with id order.
+    #[test]
+    fn id_order_by_scatter_and_by_sort() {
+        let shuffled: Vec<u32> = (0..10_000u32).map(|k| (k * 7919) % 10_000).collect();
+        let gaps: Vec<u32> = shuffled.iter().map(|&id| 3 * id + 1).collect();
+        for (ids, dense) in [(shuffled, true), (gaps, false)] {
+            let o = IdOrder::of(&ids);
+            assert_eq!(matches!(o, IdOrder::Dense), dense);
+            let got = o.arrange(&ids, |i| (ids[i], i));
+            let mut want: Vec<(u32, usize)> = ids.iter().copied().zip(0..).collect();
+            want.sort_unstable();
+            assert_eq!(got, want);
+            let mut seen = vec![usize::MAX; ids.len()];
+            o.each(&ids, |i, k| seen[k] = i);
+            assert_eq!(seen, want.iter().map(|w| w.1).collect::<Vec<_>>());
+        }
+    }
+
+    /// A repeated id is not a permutation.
+    #[test]
+    fn repeated_ids_are_not_dense() {
+        assert!(matches!(IdOrder::of(&[0, 1, 1]), IdOrder::Sorted(_)));
+        assert!(matches!(IdOrder::of(&[]), IdOrder::Dense));
+    }
 }
