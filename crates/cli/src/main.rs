@@ -118,8 +118,12 @@ enum Command {
 #[derive(Subcommand)]
 enum BenchCommand {
     /// The DEM engine on a bed of disks with the peer benchmark's physics (LAMMPS
-    /// gran/hooke/history).
+    /// gran/hooke/history), or (--dim 3) on a bed of spheres with the 3D deck's
+    /// (pair_style granular: hertz/material, tsuji, mindlin).
     Dem {
+        /// Dimension: 2 (disks) or 3 (spheres; needs --lammps-data).
+        #[arg(long, default_value_t = 2)]
+        dim: usize,
         /// Number of disks in a bed grains builds itself (ignored with --lammps-data).
         #[arg(long, default_value_t = 20_000)]
         particles: usize,
@@ -453,6 +457,7 @@ fn cmd_analyze(
 fn cmd_bench(what: BenchCommand) -> Result<ExitCode, Failure> {
     let r = match what {
         BenchCommand::Dem {
+            dim,
             particles,
             lammps_data,
             tile,
@@ -463,11 +468,23 @@ fn cmd_bench(what: BenchCommand) -> Result<ExitCode, Failure> {
             if tile == 0 {
                 return Err(input("--tile = 0: must be at least 1"));
             }
-            let bed = match lammps_data {
-                Some(path) => bench::dem::Bed::LammpsData(path, tile),
-                None => bench::dem::Bed::Built(particles),
-            };
-            bench::dem::run(&bed, steps)
+            match (dim, lammps_data) {
+                (2, data) => {
+                    let bed = match data {
+                        Some(path) => bench::dem::Bed::LammpsData(path, tile),
+                        None => bench::dem::Bed::Built(particles),
+                    };
+                    bench::dem::run(&bed, steps)
+                }
+                (3, Some(path)) if tile == 1 => bench::dem3d::run(&path, steps),
+                (3, Some(_)) => Err(format!(
+                    "--tile = {tile}: a 3D bed is not tiled (only 1); build a larger one with LAMMPS (bench/in.replicate3d.lmp)"
+                )),
+                (3, None) => Err(
+                    "--dim = 3 without --lammps-data: the 3D bench runs on a bed of spheres from a LAMMPS data file".into(),
+                ),
+                _ => Err(format!("--dim = {dim}: must be 2 or 3")),
+            }
         }
         BenchCommand::Mpm {
             particles,

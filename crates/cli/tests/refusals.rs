@@ -296,6 +296,16 @@ fn arguments(all: &mut Vec<Case>) {
         &["bench", "dem", "--tile", "0"],
         &["bench", "dem", "--threads", "0"],
         &["bench", "dem", "--lammps-data", "missing.data"],
+        &["bench", "dem", "--dim", "4"],
+        &["bench", "dem", "--dim", "3"],
+        &[
+            "bench",
+            "dem",
+            "--dim",
+            "3",
+            "--lammps-data",
+            "missing.data",
+        ],
         &["bench", "mpm", "--steps", "0"],
         &["bench", "mpm", "--particles", "0"],
         &["bench", "mpm", "--grid", "0"],
@@ -309,6 +319,19 @@ fn arguments(all: &mut Vec<Case>) {
         all.push(case(files, args, &[]));
     }
     all.push(case(&[], &["run", "missing.toml"], &["missing.toml"]));
+    // A data file of the other dimension, each way: the line names the telling value.
+    let flat = "t\n\n1 atoms\n\n0 4 xlo xhi\n0 4 ylo yhi\n-0.5 0.5 zlo zhi\n\nAtoms # sphere\n\n1 1 1 1 2 2 0\n";
+    let deep = flat.replace("2 2 0\n", "2 2 0.5\n");
+    all.push(case(
+        &[("flat.data", flat)],
+        &["bench", "dem", "--dim", "3", "--lammps-data", "flat.data"],
+        &["flat.data", "z = 0"],
+    ));
+    all.push(case(
+        &[("deep.data", deep.as_str())],
+        &["bench", "dem", "--lammps-data", "deep.data"],
+        &["deep.data", "z = 0.5"],
+    ));
     all.push(case(&[], &["check", "missing.toml"], &["missing.toml"]));
     all.push(case(&[], &["pack", "missing.toml"], &["missing.toml"]));
     all.push(case(&[], &["analyze", "missing.txt"], &["missing.txt"]));

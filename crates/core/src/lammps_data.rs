@@ -1,7 +1,7 @@
 //! Reader for LAMMPS data files of `atom_style sphere` (as `write_data` writes them), so
 //! users can start grains from the beds they built with LAMMPS.
 //!
-//! Only what a 2D granular run needs is read: the box, and per atom its id, type,
+//! What a granular run needs is read, in 2D or 3D: the box, and per atom its id, type,
 //! diameter, density and position (Atoms section, `id type diameter density x y z`
 //! with optional image flags), plus velocities and angular velocities if a Velocities
 //! section is present (`id vx vy vz wx wy wz`).
@@ -54,6 +54,36 @@ pub enum DataError {
         /// What was wrong.
         what: String,
     },
+}
+
+impl LammpsData {
+    /// The file's dimension. A data file does not state it; LAMMPS writes a 2D system
+    /// with every atom at z = 0, so any atom off that plane makes the file 3D.
+    pub fn dimension(&self) -> usize {
+        if self.atoms.iter().all(|a| a.pos[2] == 0.0) {
+            2
+        } else {
+            3
+        }
+    }
+
+    /// `Ok` when the file is of dimension `dim`; otherwise one line naming the file,
+    /// the value that shows its dimension and what the run needs.
+    pub fn require_dimension(&self, dim: usize, name: &str) -> Result<(), String> {
+        match (self.dimension(), dim) {
+            (a, b) if a == b => Ok(()),
+            (2, _) => Err(format!(
+                "{name}: every atom at z = 0, a 2D data file: a {dim}D run needs a {dim}D one (atom_style sphere with dimension {dim})"
+            )),
+            _ => {
+                let a = self.atoms.iter().find(|a| a.pos[2] != 0.0);
+                let (id, z) = a.map_or((0, 0.0), |a| (a.id, a.pos[2]));
+                Err(format!(
+                    "{name}: atom {id} at z = {z}, a 3D data file: a {dim}D run needs a {dim}D one (every atom at z = 0)"
+                ))
+            }
+        }
+    }
 }
 
 /// Reads a data file.
@@ -223,6 +253,24 @@ mod tests {
         assert_eq!(d.atoms[0].pos, [11.0, 1.0, 0.0]);
         assert_eq!(d.atoms[0].vel, [0.1, 0.2, 0.0]);
         assert_eq!(d.atoms[0].omega[2], 0.5);
+    }
+
+    #[test]
+    fn tells_2d_from_3d() {
+        let d2 = parse(SAMPLE, "sample").unwrap();
+        assert_eq!(d2.dimension(), 2);
+        assert!(d2.require_dimension(2, "f").is_ok());
+        let e = d2.require_dimension(3, "f").unwrap_err();
+        assert!(e.contains("z = 0") && e.contains("3D run"), "{e}");
+        let d3 = parse(
+            &SAMPLE.replace("3.0 1.0 0.0 0 0 0", "3.0 1.0 2.5 0 0 0"),
+            "s",
+        )
+        .unwrap();
+        assert_eq!(d3.dimension(), 3);
+        assert_eq!(d3.atoms[1].pos, [3.0, 1.0, 2.5]);
+        let e = d3.require_dimension(2, "f").unwrap_err();
+        assert!(e.contains("atom 2 at z = 2.5"), "{e}");
     }
 
     #[test]

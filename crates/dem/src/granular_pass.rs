@@ -9,8 +9,9 @@
 //! which `walls_gather_kick` multiplies back.
 
 use crate::contact::PairTable;
-use crate::granular::{respond, Contact, GranularParams, WIDTH};
-use crate::math::{AngVector, Vector};
+use crate::domain::Image;
+use crate::granular::{respond, Contact, Damping, GranularParams, Normal, Tangential, WIDTH};
+use crate::math::{self, AngVector, Components, Tangent, TangentOps, Vector, ANG, DIM, TAN};
 use crate::neighbours::{ContactList, GranularHistory};
 use crate::particles::Particles;
 use crate::setup::Setup;
@@ -36,6 +37,22 @@ pub fn pair_contacts(
     list: &mut ContactList,
     dt: f64,
 ) {
+    crate::with_image!(setup.domain, run, (setup, table, p, list, dt));
+}
+
+fn run<const P: u8>(
+    setup: &Setup,
+    table: &PairTable<GranularParams>,
+    p: &mut Particles,
+    list: &mut ContactList,
+    dt: f64,
+) {
+    let image = Image::<P>::new(&setup.domain);
+    // Particles of one material (the common case; walls may differ): the law is read
+    // once, not per contact.
+    let m0 = p.material.first().map_or(0, |&m| m as usize);
+    let one = table.len() == 1 || p.material.iter().all(|&m| m as usize == m0);
+    let uniform = (one && m0 < table.len()).then(|| *table.get(m0, m0));
     let n = p.len();
     list.history.resize(list.nbr.len(), [0.0; WIDTH]);
     let row = &list.row;
@@ -71,24 +88,68 @@ pub fn pair_contacts(
         });
         (history, fpair, ftan) = (h_rest, f_rest, t_rest);
     }
-    let (owner, nbr) = (&list.owner, &list.nbr);
-    jobs.into_par_iter().for_each(|c| {
+    let ctx = Ctx {
+        image,
+        owner: &list.owner,
+        nbr: &list.nbr,
+        row,
+        pos,
+        vel,
+        omega,
+        radius,
+        inv_mass,
+        material,
+        table,
+        dt,
+    };
+    match uniform.and_then(|law| Plain::of(&law)) {
+        Some(plain) => jobs
+            .into_par_iter()
+            .for_each(|mut c| ctx.blocked(&plain, &mut c)),
+        None => jobs
+            .into_par_iter()
+            .for_each(|mut c| ctx.scalar(uniform.as_ref(), &mut c)),
+    }
+}
+
+/// Everything the pass reads.
+struct Ctx<'a, const P: u8> {
+    image: Image<P>,
+    owner: &'a [u32],
+    nbr: &'a [u32],
+    row: &'a [u32],
+    pos: &'a [Vector],
+    vel: &'a [Vector],
+    omega: &'a [AngVector],
+    radius: &'a [f64],
+    inv_mass: &'a [f64],
+    material: &'a [u16],
+    table: &'a PairTable<GranularParams>,
+    dt: f64,
+}
+
+impl<const P: u8> Ctx<'_, P> {
+    /// Any law, one entry at a time through [`respond`].
+    fn scalar(&self, uniform: Option<&GranularParams>, c: &mut Chunk) {
         let (first, end) = (c.range.start, c.range.end);
-        let base = row[first] as usize;
+        let base = self.row[first] as usize;
+        let (pos, vel, omega, radius, inv_mass) =
+            (self.pos, self.vel, self.omega, self.radius, self.inv_mass);
+        let dt = self.dt;
         c.force.fill(Vector::ZERO);
         c.torque.fill(AngVector::default());
         for k in 0..c.history.len() {
-            let (i, j) = (owner[base + k] as usize, nbr[base + k] as usize);
+            let (i, j) = (self.owner[base + k] as usize, self.nbr[base + k] as usize);
             if j >= end {
                 c.fpair[k] = Vector::ZERO;
                 c.ftan[k] = AngVector::default();
             }
-            let d = setup.domain.min_image(pos[j] - pos[i]);
+            let d = self.image.apply(pos[j] - pos[i]);
             let (ri, rj) = (radius[i], radius[j]);
             let rsum = ri + rj;
             let dist2 = d.length_squared();
             if !(dist2 < rsum * rsum && dist2 > 0.0) {
-                c.history[k] = [0.0; WIDTH];
+                clear(&mut c.history[k]);
                 continue;
             }
             let dist = dist2.sqrt();
@@ -101,7 +162,12 @@ pub fn pair_contacts(
                 spin: ri * omega[i] + rj * omega[j],
                 w_rel: omega[i] - omega[j],
             };
-            let law = table.get(material[i] as usize, material[j] as usize);
+            let law = match uniform {
+                Some(law) => law,
+                None => self
+                    .table
+                    .get(self.material[i] as usize, self.material[j] as usize),
+            };
             let r = respond(law, &contact, &mut c.history[k], dt, dt > 0.0);
             let half = 0.5 * contact.overlap;
             c.force[i - first] += r.force;
@@ -115,5 +181,422 @@ pub fn pair_contacts(
                 c.ftan[k] = tj * (1.0 / rj);
             }
         }
-    });
+    }
+
+    /// One law without rolling, twisting or rescaling for every pair: the touching
+    /// entries are gathered into blocks and the law runs over each block's arrays
+    /// ([`Plain::respond`]), the same operations as [`respond`], so the same bits.
+    fn blocked(&self, law: &Plain, c: &mut Chunk) {
+        let (first, end) = (c.range.start, c.range.end);
+        let base = self.row[first] as usize;
+        c.force.fill(Vector::ZERO);
+        c.torque.fill(AngVector::default());
+        let mut b = Block::new();
+        let mut len = 0usize;
+        for k in 0..c.history.len() {
+            let (i, j) = (self.owner[base + k] as usize, self.nbr[base + k] as usize);
+            if j >= end {
+                c.fpair[k] = Vector::ZERO;
+                c.ftan[k] = AngVector::default();
+            }
+            let d = self.image.apply(self.pos[j] - self.pos[i]);
+            let rsum = self.radius[i] + self.radius[j];
+            let dist2 = d.length_squared();
+            if !(dist2 < rsum * rsum && dist2 > 0.0) {
+                clear(&mut c.history[k]);
+                continue;
+            }
+            let t = len & (BLOCK - 1);
+            b.entry[t] = k as u32;
+            b.i[t] = i as u32;
+            b.j[t] = j as u32;
+            d.write(&mut b.d, t);
+            b.rsum[t] = rsum;
+            len += 1;
+            if len == BLOCK {
+                self.flush(law, &mut b, len, c);
+                len = 0;
+            }
+        }
+        self.flush(law, &mut b, len, c);
+    }
+
+    /// Runs the law over the first `len` pairs of the block and adds their forces in
+    /// entry order.
+    fn flush(&self, law: &Plain, b: &mut Block, len: usize, c: &mut Chunk) {
+        let n = len.min(BLOCK);
+        for t in 0..n {
+            let (i, j, k) = (b.i[t] as usize, b.j[t] as usize, b.entry[t] as usize);
+            let (ri, rj) = (self.radius[i], self.radius[j]);
+            (self.vel[i] - self.vel[j]).write(&mut b.v, t);
+            (ri * self.omega[i] + rj * self.omega[j]).write(&mut b.spin, t);
+            b.ri[t] = ri;
+            b.rj[t] = rj;
+            b.inv_msum[t] = self.inv_mass[i] + self.inv_mass[j];
+            Tangent::from_slice(&c.history[k][..TAN]).write(&mut b.xi, t);
+        }
+        // The deck's law (Hertz, Tsuji, Mindlin) and the step's update are fixed at
+        // compile time: the loop then has no branch left and vectorises.
+        let hmt = law.hertz && law.damping == Damping::Tsuji && law.mindlin && !law.limit_damping;
+        match (hmt, self.dt > 0.0) {
+            (true, true) => law_loop::<true, true>(law, b, n, self.dt),
+            (true, false) => law_loop::<true, false>(law, b, n, self.dt),
+            (false, true) => law_loop::<false, true>(law, b, n, self.dt),
+            (false, false) => law_loop::<false, false>(law, b, n, self.dt),
+        }
+        let first = c.range.start;
+        for t in 0..n {
+            let (i, j, k) = (b.i[t] as usize, b.j[t] as usize, b.entry[t] as usize);
+            let f = Vector::read(&b.f, t);
+            let tj = AngVector::read(&b.tj, t);
+            let xi = Tangent::read(&b.xi, t);
+            for a in 0..TAN {
+                c.history[k][a] = xi.get(a);
+            }
+            c.force[i - first] += f;
+            c.torque[i - first] += AngVector::read(&b.ti, t);
+            if j < c.range.end {
+                c.force[j - first] -= f;
+                c.torque[j - first] += tj;
+            } else {
+                c.fpair[k] = f;
+                c.ftan[k] = tj * (1.0 / b.rj[t]);
+            }
+        }
+    }
+}
+
+/// [`Plain::respond`] over the first `n` pairs of a block; `HMT`: the law is Hertz with
+/// Tsuji's damping and Mindlin's spring (and no limit on damping); `UPDATE`: the springs
+/// advance (dt > 0).
+#[inline(never)]
+fn law_loop<const HMT: bool, const UPDATE: bool>(law: &Plain, b: &mut Block, n: usize, dt: f64) {
+    let n = n.min(BLOCK);
+    for t in 0..n {
+        let d = Vector::read(&b.d, t);
+        let dist = d.length_squared().sqrt();
+        let (ri, rj, rsum) = (b.ri[t], b.rj[t], b.rsum[t]);
+        let overlap = rsum - dist;
+        let (force, moment, xi) = law.respond::<HMT, UPDATE>(
+            d / dist,
+            overlap,
+            ri * rj / rsum,
+            1.0 / b.inv_msum[t],
+            Vector::read(&b.v, t),
+            AngVector::read(&b.spin, t),
+            Tangent::read(&b.xi, t),
+            dt,
+        );
+        // As the scalar pass: no couple without rolling or twisting.
+        let half = 0.5 * overlap;
+        let none = AngVector::default();
+        force.write(&mut b.f, t);
+        ((ri - half) * moment + none).write(&mut b.ti, t);
+        ((rj - half) * moment - none).write(&mut b.tj, t);
+        xi.write(&mut b.xi, t);
+    }
+}
+
+/// [`math::carry_keeping_length`] with a select in place of its branches (the same
+/// operations on the path taken).
+#[cfg(feature = "dim3")]
+#[inline(always)]
+fn carry(xi: Tangent, n: Vector, stiffness: f64, limit: f64) -> Tangent {
+    let along = xi.dot(n);
+    let tilted = along.abs() * stiffness > 1e-10 * limit;
+    let before = xi.length();
+    let p = xi - along * n;
+    let after = p.length();
+    let scale = if after > 0.0 { before / after } else { 0.0 };
+    pick(tilted, p * scale, xi)
+}
+
+/// In 2D the spring is a component along t and is carried as it is.
+#[cfg(not(feature = "dim3"))]
+#[inline(always)]
+fn carry(xi: Tangent, n: Vector, stiffness: f64, limit: f64) -> Tangent {
+    math::carry_keeping_length(xi, n, stiffness, limit)
+}
+
+/// Clears a history that holds something. Most entries stay apart, so their memory is
+/// read but not written back.
+#[inline(always)]
+fn clear(h: &mut [f64; WIDTH]) {
+    if h.iter().any(|x| x.to_bits() != 0) {
+        *h = [0.0; WIDTH];
+    }
+}
+
+/// Touching pairs per block.
+const BLOCK: usize = 64;
+const _: () = assert!(BLOCK.is_power_of_two());
+
+/// The touching pairs of one block, one array per quantity and component.
+struct Block {
+    entry: [u32; BLOCK],
+    i: [u32; BLOCK],
+    j: [u32; BLOCK],
+    /// x_j − x_i (nearest image).
+    d: [[f64; BLOCK]; DIM],
+    rsum: [f64; BLOCK],
+    ri: [f64; BLOCK],
+    rj: [f64; BLOCK],
+    inv_msum: [f64; BLOCK],
+    /// v_i − v_j.
+    v: [[f64; BLOCK]; DIM],
+    /// r_i ω_i + r_j ω_j.
+    spin: [[f64; BLOCK]; ANG],
+    /// The tangential spring: before the law, then after it.
+    xi: [[f64; BLOCK]; TAN],
+    /// Force on i.
+    f: [[f64; BLOCK]; DIM],
+    /// Torque on i and on j.
+    ti: [[f64; BLOCK]; ANG],
+    tj: [[f64; BLOCK]; ANG],
+}
+
+impl Block {
+    fn new() -> Box<Self> {
+        Box::new(Block {
+            entry: [0; BLOCK],
+            i: [0; BLOCK],
+            j: [0; BLOCK],
+            d: [[0.0; BLOCK]; DIM],
+            rsum: [0.0; BLOCK],
+            ri: [0.0; BLOCK],
+            rj: [0.0; BLOCK],
+            inv_msum: [0.0; BLOCK],
+            v: [[0.0; BLOCK]; DIM],
+            spin: [[0.0; BLOCK]; ANG],
+            xi: [[0.0; BLOCK]; TAN],
+            f: [[0.0; BLOCK]; DIM],
+            ti: [[0.0; BLOCK]; ANG],
+            tj: [[0.0; BLOCK]; ANG],
+        })
+    }
+}
+
+/// A law with a tangential spring and nothing after it (no rolling, no twisting, no
+/// `mindlin_rescale`): what [`respond`] does for it, written with selects in place of
+/// branches so that a loop over contacts vectorises, in the same operations.
+#[derive(Clone, Copy, Debug)]
+struct Plain {
+    hertz: bool,
+    kn: f64,
+    damping: Damping,
+    damp: f64,
+    mindlin: bool,
+    kt: f64,
+    x_gamma_t: f64,
+    mu: f64,
+    limit_damping: bool,
+}
+
+impl Plain {
+    fn of(p: &GranularParams) -> Option<Self> {
+        let plain =
+            p.rolling.is_none() && !p.twisting && p.tangential != Tangential::MindlinRescale;
+        plain.then_some(Plain {
+            hertz: p.normal == Normal::HertzMaterial,
+            kn: p.kn,
+            damping: p.damping,
+            damp: p.damp,
+            mindlin: p.tangential == Tangential::Mindlin,
+            kt: p.kt,
+            x_gamma_t: p.x_gamma_t,
+            mu: p.mu,
+            limit_damping: p.limit_damping,
+        })
+    }
+
+    /// The force on i, n × F_t and the new spring, for unit normal `n` (i towards j),
+    /// overlap, R_eff, m_eff, v_i − v_j, R_i ω_i + R_j ω_j and the spring before.
+    /// `HMT` and `UPDATE` as [`law_loop`]'s.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn respond<const HMT: bool, const UPDATE: bool>(
+        &self,
+        n: Vector,
+        overlap: f64,
+        r_eff: f64,
+        m_eff: f64,
+        v: Vector,
+        spin: AngVector,
+        xi: Tangent,
+        dt: f64,
+    ) -> (Vector, AngVector, Tangent) {
+        let vnn = -v.dot(n);
+        let a = (overlap * r_eff).sqrt();
+        let (fne, knfac) = if HMT || self.hertz {
+            (self.kn * overlap * a, self.kn * a)
+        } else {
+            (self.kn * overlap, self.kn)
+        };
+        let damp_normal = if HMT {
+            (m_eff * knfac).sqrt()
+        } else {
+            match self.damping {
+                Damping::Velocity => 1.0,
+                Damping::MassVelocity => m_eff,
+                Damping::Viscoelastic => a * m_eff,
+                Damping::Tsuji => (m_eff * knfac).sqrt(),
+            }
+        };
+        let eta_n = self.damp * damp_normal;
+        let fn_total = fne - eta_n * vnn;
+        let fn_total = if !HMT && self.limit_damping && fn_total < 0.0 {
+            0.0
+        } else {
+            fn_total
+        };
+        let fn_crit = fn_total.abs();
+        let vtr = math::tangential_velocity(v, n, spin);
+        let f_scrit = self.mu * fn_crit;
+        let kt = if HMT || self.mindlin {
+            self.kt * a
+        } else {
+            self.kt
+        };
+        let eta_t = self.x_gamma_t * eta_n;
+        let xi = if UPDATE {
+            carry(xi, n, kt, f_scrit) + vtr * dt
+        } else {
+            xi
+        };
+        let ft = -(xi * kt) - vtr * eta_t;
+        let fs = ft.norm();
+        let slide = fs > f_scrit;
+        let moving = xi.norm() != 0.0;
+        let ratio = f_scrit / fs;
+        let xi_cap = -(ft * ratio + vtr * eta_t) * (1.0 / kt);
+        let ft_cap = if moving {
+            ft * ratio
+        } else {
+            Tangent::default()
+        };
+        let xi = pick(slide & moving, xi_cap, xi);
+        let ft = pick(slide, ft_cap, ft);
+        (
+            -fn_total * n + math::tangent_vector(ft, n),
+            math::moment(ft, n),
+            xi,
+        )
+    }
+}
+
+/// `a` where `c`, else `b`, component by component (a select, not a branch).
+#[inline(always)]
+fn pick<T: Components>(c: bool, a: T, b: T) -> T {
+    let mut out = [0.0; 3];
+    for k in 0..T::N {
+        out[k] = if c { a.get(k) } else { b.get(k) };
+    }
+    T::from_slice(&out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::granular::Damping;
+    use crate::{ContactModel, Domain, Material, State};
+
+    /// A heap of grains in a periodic box with a floor, under `table`.
+    fn heap(materials: usize, table: PairTable<GranularParams>) -> (Setup, State) {
+        let material = Material {
+            name: "m".into(),
+            density: 1.9,
+            youngs: None,
+            poisson: None,
+            restitution: None,
+            friction: None,
+            inertia_factor: 0.4,
+        };
+        let model = ContactModel::HookeHistory {
+            kn: 1.0,
+            kt: 1.0,
+            gamma_n: 0.0,
+            gamma_t: 0.0,
+            mu: 0.0,
+            limit_damping: false,
+        };
+        let mut lo = Vector::ZERO;
+        let mut hi = Vector::ZERO;
+        let mut periodic = [true; math::DIM];
+        for a in 0..math::DIM {
+            hi[a] = 6.0;
+        }
+        lo[math::DIM - 1] = -1.0;
+        hi[math::DIM - 1] = 60.0;
+        periodic[math::DIM - 1] = false;
+        let domain = Domain { lo, hi, periodic };
+        let mut setup = Setup::new(
+            domain,
+            vec![material; materials],
+            model,
+            vec![],
+            -Vector::from_slice(&[0.0, 0.0, 1.0][3 - math::DIM..]),
+            0.2,
+        )
+        .unwrap();
+        setup.granular = Some(table);
+        let mut p = Particles::default();
+        let mut k = 0u64;
+        let mut noise = || {
+            k = k
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (k >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for c in 0..300 {
+            let mut at = Vector::ZERO;
+            let mut v = Vector::ZERO;
+            let mut idx = c;
+            for a in 0..math::DIM {
+                let m = if a + 1 == math::DIM { 1000 } else { 6 };
+                at[a] = (idx % m) as f64 * 0.93 + 0.5 + 0.05 * noise();
+                v[a] = noise() - 0.5;
+                idx /= m;
+            }
+            let w = AngVector::from_slice(&[noise() - 0.5, noise() - 0.5, noise() - 0.5]);
+            p.push(
+                at,
+                0.42 + 0.08 * noise(),
+                1.9,
+                0.4,
+                (c % materials) as u16,
+                v,
+                w,
+            );
+        }
+        let state = State::new(&setup, p);
+        (setup, state)
+    }
+
+    #[test]
+    fn blocks_give_the_scalar_bits() {
+        let law = GranularParams::lammps(
+            Normal::HertzMaterial,
+            1e5,
+            Damping::Tsuji,
+            0.5,
+            0.3,
+            Tangential::Mindlin,
+            None,
+            1.0,
+            0.4,
+        );
+        assert!(Plain::of(&law).is_some());
+        // One material takes the blocked pass, two (the same law) the scalar one.
+        let (s1, mut a) = heap(1, PairTable::from_fn(1, |_, _| law));
+        let (s2, mut b) = heap(2, PairTable::from_fn(2, |_, _| law));
+        for _ in 0..400 {
+            crate::step(&s1, &mut a, 5e-4);
+            crate::step(&s2, &mut b, 5e-4);
+        }
+        assert!(a.contacts.history.iter().any(|h| h[0] != 0.0));
+        assert_eq!(
+            crate::diagnostics::state_hash(&a),
+            crate::diagnostics::state_hash(&b)
+        );
+    }
 }

@@ -462,7 +462,6 @@ fn chung_ooi_test_1_hertz_impact_of_two_spheres() {
 #[test]
 fn granular_bed_is_bitwise_on_threads_and_through_a_checkpoint() {
     use grains_dem3d::granular::{Damping, GranularParams, Normal, Rolling, Tangential};
-    use grains_dem3d::PairTable;
     let law = GranularParams {
         rolling: Some(Rolling {
             kr: 50.0,
@@ -482,6 +481,13 @@ fn granular_bed_is_bitwise_on_threads_and_through_a_checkpoint() {
             0.5,
         )
     };
+    granular_bed_is_bitwise(law);
+}
+
+/// The granular `law` on a bed: the same state on 1, 2 and 3 threads, and through a
+/// checkpoint.
+fn granular_bed_is_bitwise(law: grains_dem3d::granular::GranularParams) {
+    use grains_dem3d::PairTable;
     let granular_bed = || {
         let (mut s, p) = bed();
         s.granular = Some(PairTable::from_fn(1, |_, _| law));
@@ -656,4 +662,24 @@ fn chung_ooi_test_3_restitution_with_the_solved_damping() {
         let got = st.particles.vel[0].z / v;
         assert!((got / e - 1.0).abs() < 1e-3, "e {got} against {e}");
     }
+}
+
+/// The plain Hertz–Mindlin law (no rolling, twisting or rescaling: the blocked pass of
+/// `granular_pass`) on a bed: the same state on 1, 2 and 3 threads, and through a
+/// checkpoint.
+#[test]
+fn plain_granular_bed_is_bitwise_on_threads_and_through_a_checkpoint() {
+    use grains_dem3d::granular::{Damping, GranularParams, Normal, Tangential};
+    let law = GranularParams::lammps(
+        Normal::HertzMaterial,
+        5e7,
+        Damping::Tsuji,
+        0.5,
+        0.3,
+        Tangential::Mindlin,
+        None,
+        1.0,
+        0.5,
+    );
+    granular_bed_is_bitwise(law);
 }

@@ -2,14 +2,13 @@
 //! physics (LAMMPS `gran/hooke/history`, kn = 4000, kt = 2/7 kn, γn = 87, γt = γn/2,
 //! μ = 0.3, density 1, g = 1, Δt = 5·10⁻⁴, skin 0.1, frictional floor, periodic x).
 
-use super::{cpu_seconds, peak_memory_mb, Report};
+use super::{peak_memory_mb, Report};
 use crate::estimate::{rate, Estimate};
 use glam::DVec2;
 use grains_core::rng;
 use grains_dem::{step, ContactModel, Domain, Material, Particles, Setup, State, Wall, WallShape};
 use rand::RngExt;
 use std::path::PathBuf;
-use std::time::Instant;
 
 /// The peer benchmark's time step.
 pub const DT: f64 = 5e-4;
@@ -46,29 +45,7 @@ pub fn run(bed: &Bed, steps: u64) -> Result<Report, String> {
     };
     let particles = p.len();
     let mut state = State::new(&setup, p);
-    let t0 = Instant::now();
-    let c0 = cpu_seconds();
-    // Step from inside the pool: parallel passes then start on a worker thread instead
-    // of waking the pool from outside three times a step.
-    rayon::scope(|_| {
-        for _ in 0..steps {
-            step(&setup, &mut state, DT);
-        }
-    });
-    let secs = t0.elapsed().as_secs_f64();
-    let cpu = c0.and_then(|c0| Some(cpu_seconds()? - c0));
-    let work = particles as f64 * steps as f64;
-    let mut r = Report::default();
-    r.line("particles", particles);
-    r.line("steps", steps);
-    r.line("threads", threads);
-    r.line("wall time", format!("{secs:.3} s"));
-    if let Some(cpu) = cpu {
-        // Robust to other load on the machine: time the process was not running is not
-        // counted.
-        r.line("cpu time", format!("{cpu:.3} s"));
-        r.line("particle-steps per cpu-s", format!("{:.4e}", work / cpu));
-    }
+    let mut r = super::timed(particles, steps, || step(&setup, &mut state, DT));
     r.line("neighbour builds", state.contacts.builds);
     let d = grains_dem::diagnostics::measure(&setup, &state);
     r.line(
@@ -86,7 +63,6 @@ pub fn run(bed: &Bed, steps: u64) -> Result<Report, String> {
     if let Some(mb) = peak_memory_mb() {
         r.line("peak memory", format!("{mb:.0} MB"));
     }
-    r.rate = work / secs;
     Ok(r)
 }
 
@@ -158,6 +134,7 @@ pub fn lammps_bed(path: &std::path::Path, tile: usize) -> Result<(Setup, Particl
     if data.atoms.is_empty() {
         return Err(format!("{}: no atoms", path.display()));
     }
+    data.require_dimension(2, &path.display().to_string())?;
     let top = data
         .atoms
         .iter()

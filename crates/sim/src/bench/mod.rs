@@ -2,6 +2,7 @@
 //! lines and, last, `particle-steps/s: X`.
 
 pub mod dem;
+pub mod dem3d;
 pub mod mpm;
 
 /// What a benchmark measured.
@@ -27,6 +28,37 @@ impl Report {
         s.push_str(&format!("particle-steps/s: {:.4e}\n", self.rate));
         s
     }
+}
+
+/// Runs `steps` calls of `step` and starts the report with the timing lines (particles,
+/// steps, threads, wall and CPU time); the rate is particle-steps per wall-clock second.
+pub fn timed(particles: usize, steps: u64, mut step: impl FnMut() + Send) -> Report {
+    let threads = rayon::current_num_threads();
+    let t0 = std::time::Instant::now();
+    let c0 = cpu_seconds();
+    // Step from inside the pool: parallel passes then start on a worker thread instead
+    // of waking the pool from outside three times a step.
+    rayon::scope(|_| {
+        for _ in 0..steps {
+            step();
+        }
+    });
+    let secs = t0.elapsed().as_secs_f64();
+    let cpu = c0.and_then(|c0| Some(cpu_seconds()? - c0));
+    let work = particles as f64 * steps as f64;
+    let mut r = Report::default();
+    r.line("particles", particles);
+    r.line("steps", steps);
+    r.line("threads", threads);
+    r.line("wall time", format!("{secs:.3} s"));
+    if let Some(cpu) = cpu {
+        // Robust to other load on the machine: time the process was not running is not
+        // counted.
+        r.line("cpu time", format!("{cpu:.3} s"));
+        r.line("particle-steps per cpu-s", format!("{:.4e}", work / cpu));
+    }
+    r.rate = work / secs;
+    r
 }
 
 /// Peak resident memory of this process (Linux `VmHWM`), in MB.
