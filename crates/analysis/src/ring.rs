@@ -23,6 +23,13 @@
 use glam::DVec2;
 use std::f64::consts::{PI, TAU};
 
+/// The packing fraction at or above which a bin belongs to the inner compact band:
+/// xue-2019's "inner compact band with packing fraction φ ≥ 0.84" (§5.1, Fig. 6b), about
+/// the densest random packing, on its polar bins of dr = 5 d0 by dθ = π/90 (§4.2). The
+/// run's band rule (`[analysis] band_fraction`) and the dispersal analysis
+/// (`[analysis.dispersal.band]`) both default to it.
+pub const BAND_PHI: f64 = 0.84;
+
 /// How the ring's layers are told apart.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rule {

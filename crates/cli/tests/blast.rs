@@ -102,6 +102,65 @@ fn small_ring_runs_coupled() {
         })
         .count();
     assert_eq!(snaps, 2, "snapshot at 2 µs and at the end");
+
+    // `grains analyze` measures the frames by the run's own band rule: at every frame
+    // that is also a history row (the start, the 2 µs snapshot, the end) it gives the
+    // history's figures; a scenario naming a looser threshold puts more grains in the
+    // band (this thin ring has none at φ ≥ 0.84 after the first microsecond).
+    let run = dir.path().join("out");
+    let ring = |extra: &str| {
+        if !extra.is_empty() {
+            let text = std::fs::read_to_string(run.join("scenario.toml")).unwrap();
+            std::fs::write(run.join("scenario.toml"), format!("{text}\n{extra}")).unwrap();
+        }
+        let o = grains(&["analyze", run.to_str().unwrap(), "--json"]);
+        assert_eq!(o.code, 0, "{}", o.stderr);
+        let a: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
+        a["ring"].clone()
+    };
+    let strict = ring("");
+    assert_eq!(strict["rule"]["band_fraction"], 0.84, "{strict}");
+    let cols: Vec<&str> = head.split(',').collect();
+    let col = |k: &str| cols.iter().position(|c| *c == k).unwrap();
+    let rows: Vec<Vec<f64>> = h
+        .lines()
+        .skip(1)
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect();
+    let frames = strict["frames"].as_array().unwrap();
+    let mut matched = 0;
+    for f in frames {
+        let t = f["time"].as_f64().unwrap();
+        let Some(r) = rows.iter().find(|r| r[col("time")] == t) else {
+            continue;
+        };
+        matched += 1;
+        for (k, c) in [
+            ("band_fraction", "band_fraction"),
+            ("band_velocity", "band_velocity"),
+            ("mean_velocity", "mean_radial_velocity"),
+        ] {
+            // An empty band has no velocity: NaN in the history, null in the JSON.
+            let (x, y) = (f[k].as_f64().unwrap_or(f64::NAN), r[col(c)]);
+            assert!(
+                (x.is_nan() && y.is_nan()) || (x - y).abs() <= 1e-9 * y.abs().max(1.0),
+                "{k} at {t}: {x} vs {y}"
+            );
+        }
+    }
+    assert!(matched >= 2, "only {matched} frames at history rows");
+    let loose = ring("[analysis]\nband_fraction = 0.5\n");
+    assert_eq!(loose["rule"]["band_fraction"], 0.5);
+    let fraction =
+        |r: &serde_json::Value, k: usize| r["frames"][k]["band_fraction"].as_f64().unwrap();
+    for k in 0..frames.len() {
+        assert!(fraction(&loose, k) >= fraction(&strict, k), "frame {k}");
+    }
+    assert!((1..frames.len()).any(|k| fraction(&loose, k) > fraction(&strict, k)));
 }
 
 #[test]

@@ -43,7 +43,7 @@ pub struct BandSpec {
 impl Default for BandSpec {
     fn default() -> Self {
         BandSpec {
-            band_fraction: 0.84,
+            band_fraction: crate::ring::BAND_PHI,
             spall_fraction: 0.6,
             smoothing_sectors: 1,
             min_grains: 100,

@@ -11,7 +11,7 @@ use crate::atomic::write_atomic_via_path;
 
 /// Image size in pixels: wide enough for long time axes, legible when
 /// scaled down in a report.
-const SIZE: (u32, u32) = (1200, 750);
+pub(super) const SIZE: (u32, u32) = (1200, 750);
 
 /// One named curve; `x` and `y` must have the same length.
 #[derive(Clone, Copy, Debug)]
@@ -47,6 +47,18 @@ impl LinePlot<'_> {
     /// Non-finite points (and non-positive ones with `log_y`) are skipped,
     /// and lines are broken there rather than bridging the gap.
     pub fn write_png(&self, path: &Path) -> Result<(), PlotError> {
+        self.check()?;
+        write_atomic_via_path(path, |tmp| {
+            super::register_font();
+            let root = BitMapBackend::new(tmp, SIZE).into_drawing_area();
+            self.draw_on(&root)?;
+            root.present()?;
+            Ok(())
+        })
+    }
+
+    /// Refuses series whose x and y differ in length.
+    pub(super) fn check(&self) -> Result<(), PlotError> {
         for s in &self.series {
             if s.x.len() != s.y.len() {
                 return Err(PlotError::InvalidInput(format!(
@@ -57,15 +69,17 @@ impl LinePlot<'_> {
                 )));
             }
         }
+        Ok(())
+    }
+
+    /// Draws the plot on `area`: the whole image, or one panel of a figure.
+    pub(super) fn draw_on(
+        &self,
+        area: &DrawingArea<BitMapBackend, Shift>,
+    ) -> Result<(), PlotError> {
         let segments: Vec<Vec<Vec<(f64, f64)>>> =
             self.series.iter().map(|s| self.segments(s)).collect();
-        write_atomic_via_path(path, |tmp| {
-            super::register_font();
-            let root = BitMapBackend::new(tmp, SIZE).into_drawing_area();
-            self.draw(&root, &segments)?;
-            root.present()?;
-            Ok(())
-        })
+        self.draw(area, &segments)
     }
 
     /// Where the legend goes so that it covers no data: the corner whose box holds

@@ -9,12 +9,14 @@ mod bar;
 mod colormap;
 mod csv;
 mod disks;
+mod grid;
 mod line;
 mod polar;
 mod ticks;
 
 pub use colormap::{diverging, viridis};
 pub use disks::{length_unit, scatter_disks_png, Outline, ParticleMap};
+pub use grid::write_grid_png;
 pub use line::{LinePlot, Series};
 pub use polar::{ColourScale, Overlay, PolarMap};
 

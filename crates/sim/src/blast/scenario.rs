@@ -204,7 +204,8 @@ fn default_coupling_safety() -> f64 {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AnalysisSpec {
-    /// Local packing fraction at or above which particles belong to the compact band.
+    /// Local packing fraction at or above which particles belong to the compact band
+    /// (default the paper's 0.84, as the dispersal analysis's; 0.8 until issue 28).
     #[serde(default = "default_band_fraction")]
     pub band_fraction: f64,
     /// Radial bin width in mean diameters (the paper's 5 d0).
@@ -238,7 +239,7 @@ fn default_true() -> bool {
 }
 
 fn default_band_fraction() -> f64 {
-    0.8
+    grains_analysis::ring::BAND_PHI
 }
 fn default_radial_bin() -> f64 {
     5.0

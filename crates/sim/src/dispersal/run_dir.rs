@@ -7,6 +7,11 @@
 //! maps at the frames nearest its `times` (or at the last frame); `--times` puts the
 //! maps at the frames nearest those times instead. Analyses made inline between frames
 //! (`every`) have no frame to be repeated from.
+//!
+//! A FEM–DEM run's frames are also measured by the run's own band rule (`[analysis]`,
+//! the history's `band_fraction`, `band_velocity`, `spall_velocity`), under `ring` in
+//! `analysis.json`: a copy of the run directory whose `scenario.toml` names another
+//! rule re-measures the run's band under it without running it again.
 
 use super::analyst::{Analyst, Frame, Layout, Writes};
 use super::settings::DispersalSettings;
@@ -14,6 +19,7 @@ use crate::blast;
 use crate::scenario::{self, Scenario};
 use crate::source::Source;
 use glam::{DMat2, DVec2};
+use grains_analysis::ring::{self as ring_analysis, Disks};
 use grains_core::pvd::PvdSeries;
 use grains_core::vtk::{find_array, read_appended_arrays, ReadArray};
 use serde_json::{json, Map, Value};
@@ -103,8 +109,14 @@ pub fn analyze_run(
         Layout::under(out),
     );
     let mut last: Option<Frame> = None;
+    let mut ring_rows = Vec::new();
+    let mut ring_d0 = None;
     for (k, f) in frames.iter().enumerate().filter(|(k, _)| analyse[*k]) {
         let frame = load(f, info.centre, info.density).map_err(|e| format!("{e:#}"))?;
+        if let Some(s) = &info.blast {
+            let d0 = *ring_d0.get_or_insert_with(|| frame.mean_diameter());
+            ring_rows.push(ring_row(s, &frame, d0));
+        }
         analyst
             .analyse(
                 &frame,
@@ -134,6 +146,20 @@ pub fn analyze_run(
         "dispersal".into(),
         analyst.finish().map_err(|e| format!("{e:#}"))?,
     );
+    if let Some(s) = &info.blast {
+        let r = blast::rule(&s.analysis);
+        figures.insert(
+            "ring".into(),
+            json!({
+                "rule": {
+                    "band_fraction": r.band_fraction,
+                    "radial_bin": r.radial_bin,
+                    "sectors": r.sectors,
+                },
+                "frames": ring_rows,
+            }),
+        );
+    }
     if let (Some(s), Some(f)) = (&info.blast, &last) {
         let mass: f64 = f.mass.iter().sum();
         if let Some(m) = blast::models::figures(s, mass, f.time) {
@@ -145,6 +171,33 @@ pub fn analyze_run(
     grains_core::json::write_json_pretty(&path, &Value::Object(figures.clone()))
         .map_err(|e| e.to_string())?;
     Ok(figures)
+}
+
+/// The history's ring figures at one frame, by the run's own rule (`[analysis]`) about
+/// the charge's centre with mean diameter `d0`. The pressure front is left out: the run
+/// reads it from the contacts' elastic forces, which a frame does not carry.
+fn ring_row(s: &blast::scenario::Scenario, f: &Frame, d0: f64) -> Value {
+    let rule = blast::rule(&s.analysis);
+    let r_in = s.ring.as_ref().map_or(0.0, |r| r.inner_radius);
+    let disks = Disks {
+        pos: &f.pos,
+        vel: &f.vel,
+        radius: &f.radius,
+        mass: &f.mass,
+    };
+    let centre = DVec2::from(s.charge.centre);
+    let ns = ring_analysis::sectors(&rule, r_in, d0);
+    let g = ring_analysis::measure(&rule, ns, disks, centre, d0, &[]);
+    json!({
+        "time": f.time,
+        "band_fraction": g.band_fraction,
+        "band_velocity": g.band_velocity,
+        "spall_velocity": g.spall_velocity,
+        "band_outer": g.band_outer,
+        "mean_velocity": g.mean_velocity,
+        "inner_radius": g.inner,
+        "outer_radius": g.outer,
+    })
 }
 
 /// The scenario's name, analysis settings, centre and duration.
