@@ -332,6 +332,16 @@ fn arguments(all: &mut Vec<Case>) {
         &["bench", "dem", "--lammps-data", "deep.data"],
         &["deep.data", "z = 0.5"],
     ));
+    let from_deep = DEM.replacen(
+        "[[wall]]",
+        "[[particles]]\nsource = \"lammps_data\"\nmaterial = \"quartz\"\npath = \"deep.data\"\n\n[[wall]]",
+        1,
+    );
+    all.push(case(
+        &[("s.toml", from_deep.as_str()), ("deep.data", deep.as_str())],
+        &["run", "s.toml"],
+        &["particles[1].path", "z = 0.5"],
+    ));
     all.push(case(&[], &["check", "missing.toml"], &["missing.toml"]));
     all.push(case(&[], &["pack", "missing.toml"], &["missing.toml"]));
     all.push(case(&[], &["analyze", "missing.txt"], &["missing.txt"]));

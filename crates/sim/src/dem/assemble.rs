@@ -61,11 +61,7 @@ pub fn assemble_with(
     base: &Path,
     given: Option<Particles>,
 ) -> Result<Assembled, InputError> {
-    let domain = Domain {
-        lo: DVec2::from(s.domain.lo),
-        hi: DVec2::from(s.domain.hi),
-        periodic: s.domain.periodic,
-    };
+    let domain = domain_of(s);
     for (k, (a, b)) in ["x", "y"].iter().zip(s.domain.lo.iter().zip(&s.domain.hi)) {
         if !(a.is_finite() && b.is_finite() && b > a) {
             return Err(InputError::new(
@@ -222,6 +218,15 @@ fn check_inside(setup: &Setup, p: &Particles) -> Result<(), InputError> {
     Ok(())
 }
 
+/// The scenario's box as the engine sees it.
+fn domain_of(s: &Scenario) -> Domain {
+    Domain {
+        lo: DVec2::from(s.domain.lo),
+        hi: DVec2::from(s.domain.hi),
+        periodic: s.domain.periodic,
+    }
+}
+
 fn add_group(
     s: &Scenario,
     g: usize,
@@ -318,6 +323,14 @@ fn add_group(
                     format!("must be a LAMMPS atom_style sphere data file: {e}"),
                 )
             })?;
+            data.require_dimension(2, &full.display().to_string())
+                .map_err(|e| {
+                    InputError::new(format!("{key}.path"), format!("\"{}\"", full.display()), e)
+                })?;
+            // The reader unwraps atoms by their image flags; put them back in the box, as
+            // LAMMPS keeps them and `grains bench dem --lammps-data` reads them, so that
+            // both start from the same bits.
+            let domain = domain_of(s);
             for a in &data.atoms {
                 let (v, w) = if *velocities {
                     (DVec2::new(a.vel[0], a.vel[1]), a.omega[2])
@@ -326,7 +339,7 @@ fn add_group(
                 };
                 push(
                     mat,
-                    DVec2::new(a.pos[0], a.pos[1]),
+                    domain.wrap(DVec2::new(a.pos[0], a.pos[1])),
                     0.5 * a.diameter,
                     v,
                     w,
