@@ -175,6 +175,12 @@ enum BenchCommand {
 }
 
 fn main() -> ExitCode {
+    // Started by mpirun on several ranks: each rank says why it cannot go on, before
+    // anything is read or written (not N runs writing into one directory).
+    if let Some(line) = grains_mpi::refuse(grains_mpi::launch()) {
+        eprintln!("error: {line}");
+        return ExitCode::from(1);
+    }
     tracing_subscriber::fmt()
         .with_env_filter(tracing_subscriber::EnvFilter::from_default_env())
         .with_writer(std::io::stderr)

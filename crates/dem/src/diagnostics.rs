@@ -1,6 +1,7 @@
 //! Read-only measurements of a state: energies, momentum, contacts, overlaps.
 //! Nothing here changes the run (contact history included).
 
+use crate::comm::{Reduce, Serial};
 use crate::math::{AngVector, Components, Tangent, TangentOps, Vector};
 use crate::particles::Particles;
 use crate::setup::Setup;
@@ -54,6 +55,49 @@ impl Diagnostics {
 /// Measures a state. Sums run over fixed chunks in order, so the figures do not depend
 /// on the thread count.
 pub fn measure(setup: &Setup, s: &State) -> Diagnostics {
+    measure_on(setup, s, &Serial)
+}
+
+/// [`measure`] of a state spread over ranks: each rank's figures are combined through
+/// `reduce`, in rank order.
+pub fn measure_on<R: Reduce + ?Sized>(setup: &Setup, s: &State, reduce: &R) -> Diagnostics {
+    let d = measure_here(setup, s);
+    if reduce.ranks() == 1 {
+        return d;
+    }
+    let mut sums: Vec<f64> = [
+        d.kinetic_translational,
+        d.kinetic_rotational,
+        d.potential,
+        d.elastic,
+    ]
+    .into_iter()
+    .chain((0..Vector::N).map(|a| d.momentum.get(a)))
+    .collect();
+    reduce.sum(&mut sums);
+    let mut counts = [
+        d.pair_contacts as u64,
+        d.wall_contacts as u64,
+        !d.finite as u64,
+    ];
+    reduce.sum_u64(&mut counts);
+    let mut worst = [d.max_overlap_ratio];
+    reduce.max(&mut worst);
+    Diagnostics {
+        kinetic_translational: sums[0],
+        kinetic_rotational: sums[1],
+        potential: sums[2],
+        elastic: sums[3],
+        momentum: Vector::from_slice(&sums[4..]),
+        pair_contacts: counts[0] as usize,
+        wall_contacts: counts[1] as usize,
+        max_overlap_ratio: worst[0],
+        finite: counts[2] == 0,
+    }
+}
+
+/// This rank's figures.
+fn measure_here(setup: &Setup, s: &State) -> Diagnostics {
     let p = &s.particles;
     let list = &s.contacts;
     let n = p.len();
@@ -253,53 +297,76 @@ pub fn index_of(p: &Particles, id: u32) -> Option<usize> {
 /// angular velocity (in id order) and every touching pair's tangential spring (keyed by
 /// ids). Equal hashes mean bitwise-equal runs, whatever the thread count or restarts.
 pub fn state_hash(s: &State) -> u64 {
+    state_hash_on(s, &Serial, |_| true)
+}
+
+/// [`state_hash`] of a state spread over ranks, where this rank `owns` some of the
+/// particles it stores (by index; the others are copies of another rank's): its
+/// records (its particles, then the springs and granular histories of the pairs whose
+/// lower id it owns, each keyed by ids) are gathered through `reduce` and hashed in key
+/// order, so the hash does not depend on which rank holds what.
+pub fn state_hash_on<R: Reduce + ?Sized>(
+    s: &State,
+    reduce: &R,
+    owns: impl Fn(usize) -> bool,
+) -> u64 {
     let p = &s.particles;
-    let mut h = grains_core::hash::Fnv1a::default();
-    let mut order: Vec<usize> = (0..p.len()).collect();
-    order.sort_unstable_by_key(|&i| p.id[i]);
-    for &i in &order {
+    // A pair is counted by the rank that owns its lower id.
+    let counts = |i: usize, j: usize| owns(if p.id[i] < p.id[j] { i } else { j });
+    let width = 2 * Vector::N + AngVector::N;
+    let mut bodies = Vec::with_capacity(p.len() * (1 + width));
+    for i in (0..p.len()).filter(|&i| owns(i)) {
         let (x, v, w) = (p.pos[i], p.vel[i], p.omega[i]);
+        bodies.push(p.id[i] as u64);
         let parts = (0..Vector::N).map(|a| x.get(a));
         let parts = parts.chain((0..Vector::N).map(|a| v.get(a)));
-        for c in parts.chain((0..AngVector::N).map(|a| w.get(a))) {
-            h.f64(c);
-        }
+        let parts = parts.chain((0..AngVector::N).map(|a| w.get(a)));
+        bodies.extend(parts.map(f64::to_bits));
     }
     let list = &s.contacts;
     let mut springs = Vec::new();
     for i in 0..p.len() {
         for e in list.row[i] as usize..list.row[i + 1] as usize {
-            if list.shear[e] != Tangent::default() {
+            if list.shear[e] != Tangent::default() && counts(i, list.nbr[e] as usize) {
                 let (a, b) = (p.id[i], p.id[list.nbr[e] as usize]);
-                springs.push(((a.min(b) as u64) << 32 | a.max(b) as u64, list.shear[e]));
+                springs.push((a.min(b) as u64) << 32 | a.max(b) as u64);
+                springs.extend((0..Tangent::N).map(|a| list.shear[e].get(a).to_bits()));
             }
-        }
-    }
-    springs.sort_unstable_by_key(|&(k, _)| k);
-    for (k, v) in springs {
-        h.word(k);
-        for a in 0..Tangent::N {
-            h.f64(v.get(a));
         }
     }
     // The granular law's histories, as seen from the lower id (none under the linear law).
     let mut granular = Vec::new();
     for (e, g) in list.history.iter().enumerate() {
-        if g.iter().any(|&x| x != 0.0) {
-            let (a, b) = (p.id[list.owner[e] as usize], p.id[list.nbr[e] as usize]);
+        let (i, j) = (list.owner[e] as usize, list.nbr[e] as usize);
+        if g.iter().any(|&x| x != 0.0) && counts(i, j) {
+            let (a, b) = (p.id[i], p.id[j]);
             let g = if a > b {
                 crate::granular::swapped(g)
             } else {
                 *g
             };
-            granular.push(((a.min(b) as u64) << 32 | a.max(b) as u64, g));
+            granular.push((a.min(b) as u64) << 32 | a.max(b) as u64);
+            granular.extend(g.iter().map(|x| x.to_bits()));
         }
     }
-    granular.sort_unstable_by_key(|&(k, _)| k);
-    for (k, g) in granular {
-        h.word(k);
-        for x in g {
-            h.f64(x);
+    let mut h = grains_core::hash::Fnv1a::default();
+    // Particles hash their values alone; pairs their key too.
+    for (words, stride, keyed) in [
+        (bodies, 1 + width, false),
+        (springs, 1 + Tangent::N, true),
+        (granular, 1 + crate::granular::WIDTH, true),
+    ] {
+        let words = reduce.gather(words);
+        let mut records: Vec<&[u64]> = words.chunks_exact(stride).collect();
+        records.sort_unstable_by_key(|r| r[0]);
+        for r in records {
+            if keyed {
+                h.word(r[0]);
+            }
+            // The bits of each number, as `Fnv1a::f64` feeds them.
+            for &x in &r[1..] {
+                h.word(x);
+            }
         }
     }
     h.finish()

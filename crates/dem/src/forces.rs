@@ -1,5 +1,6 @@
 //! The contact law (one function for particle pairs and walls) and the pair pass.
 
+use crate::comm::{Reduce, Serial};
 use crate::contact::{PairParams, PairTable};
 use crate::domain::Image;
 use crate::ledger::{EnergyLedger, Off, On, PassTally, Tally};
@@ -131,6 +132,19 @@ pub fn pair_contacts(
     dt: f64,
     ledger: Option<&mut EnergyLedger>,
 ) {
+    pair_contacts_on(setup, p, list, dt, ledger, &Serial);
+}
+
+/// [`pair_contacts`] on one rank of several: the ledger takes in the pass's terms of
+/// every rank, added through `reduce` in rank order.
+pub fn pair_contacts_on<R: Reduce + ?Sized>(
+    setup: &Setup,
+    p: &mut Particles,
+    list: &mut ContactList,
+    dt: f64,
+    ledger: Option<&mut EnergyLedger>,
+    reduce: &R,
+) {
     if let Some(table) = &setup.granular {
         // The ledger's split is the linear law's; the granular law keeps none.
         crate::granular_pass::pair_contacts(setup, table, p, list, dt);
@@ -140,7 +154,13 @@ pub fn pair_contacts(
         None => {
             dispatch::<Off>(setup, p, list, dt);
         }
-        Some(l) => l.record(&dispatch::<On>(setup, p, list, dt)),
+        Some(l) => {
+            let mut pass = dispatch::<On>(setup, p, list, dt);
+            if reduce.ranks() > 1 {
+                pass.reduce(reduce);
+            }
+            l.record(&pass);
+        }
     }
 }
 

@@ -35,6 +35,9 @@ pub struct Drift {
     /// where the frame carries their build positions (the list is still valid;
     /// [`crate::verlet`]).
     pub in_frame: bool,
+    /// With a frame: the two largest squared residuals, largest first (the test of
+    /// `in_frame` over several ranks takes the two largest of all).
+    pub residuals: [f64; 2],
     /// With a frame: the sums the next frame is estimated from.
     pub sums: Sums,
 }
@@ -71,6 +74,7 @@ pub fn kick_drift(
         moved: d.d2 > limit2 || stale,
         displacement: if stale { f64::INFINITY } else { d.d2.sqrt() },
         in_frame: !stale && frame.is_some() && a.sqrt() + b.sqrt() <= setup.skin,
+        residuals: d.residuals,
         sums: d.sums,
     }
 }

@@ -105,6 +105,27 @@ pub(crate) struct PassTally {
     pub tangential_before: f64,
 }
 
+impl PassTally {
+    /// Every rank's terms added up, in rank order.
+    pub(crate) fn reduce<R: crate::comm::Reduce + ?Sized>(&mut self, reduce: &R) {
+        let mut v = [
+            self.damping,
+            self.friction,
+            self.normal,
+            self.tangential,
+            self.tangential_before,
+        ];
+        reduce.sum(&mut v);
+        [
+            self.damping,
+            self.friction,
+            self.normal,
+            self.tangential,
+            self.tangential_before,
+        ] = v;
+    }
+}
+
 impl AddAssign for PassTally {
     fn add_assign(&mut self, o: Self) {
         self.damping += o.damping;

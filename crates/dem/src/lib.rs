@@ -19,6 +19,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod checkpoint;
+pub mod comm;
 pub mod contact;
 pub mod diagnostics;
 pub mod domain;
@@ -39,6 +40,7 @@ pub mod timestep;
 pub mod verlet;
 pub mod walls;
 
+pub use comm::{Exchange, Reduce, Serial};
 pub use contact::{ContactModel, PairParams, PairTable};
 pub use domain::Domain;
 pub use ledger::EnergyLedger;
@@ -46,7 +48,7 @@ pub use material::Material;
 pub use neighbours::ContactList;
 pub use particles::Particles;
 pub use setup::Setup;
-pub use step::{step, step_with, Hooks, ListChange, NoHooks, State};
+pub use step::{step, step_on, step_with, Hooks, ListChange, NoHooks, State};
 pub use walls::{Wall, WallShape};
 
 /// Work is split into fixed-size chunks of particles so that every reduction and every

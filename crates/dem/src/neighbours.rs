@@ -241,7 +241,7 @@ impl ContactList {
             .into_par_iter()
             .map(|c| {
                 let range = c * CHUNK..((c + 1) * CHUNK).min(n);
-                build_rows(setup, &grid, &cell_start, particles, range, &old)
+                build_rows(setup, &grid, &cell_start, particles, range, &old, &perm)
             })
             .collect();
         self.row.clear();
@@ -323,7 +323,9 @@ impl ContactList {
         out
     }
 
-    /// Touching entries as (pair key by stable id, ξ), sorted by key.
+    /// Each particle's touching pairs as (partner id, ξ as seen from the particle), by
+    /// the particle's current index: the history travels with the particle, whatever
+    /// its index or rank after the rebuild, and ids need not be 0..N.
     fn history_by_id(&self, particles: &Particles) -> History {
         let n = particles.len();
         let mut h = History {
@@ -334,16 +336,13 @@ impl ContactList {
         if self.row.len() != n + 1 {
             return h;
         }
-        // A counting sort by the lower id: two passes over the list, no comparison sort.
+        // A counting sort by particle: two passes over the list, no comparison sort.
         let live = |e: usize| self.shear[e] != Tangent::default();
-        let ids = |i: usize, e: usize| {
-            let (a, b) = (particles.id[i], particles.id[self.nbr[e] as usize]);
-            (a.min(b) as usize, a.max(b))
-        };
         for i in 0..n {
             for e in self.row[i] as usize..self.row[i + 1] as usize {
                 if live(e) {
-                    h.start[ids(i, e).0 + 2] += 1;
+                    h.start[i + 2] += 1;
+                    h.start[self.nbr[e] as usize + 2] += 1;
                 }
             }
         }
@@ -356,12 +355,16 @@ impl ContactList {
         for i in 0..n {
             for e in self.row[i] as usize..self.row[i + 1] as usize {
                 if live(e) {
-                    let (lo, hi) = ids(i, e);
-                    let at = h.start[lo + 1] as usize;
-                    h.partner[at] = hi;
-                    // Kept as seen from the lower id, whichever particle owned the row.
-                    h.shear[at] = orient(self.shear[e], particles.id[i] as usize != lo);
-                    h.start[lo + 1] += 1;
+                    let j = self.nbr[e] as usize;
+                    for (at, other, xi) in [
+                        (i, j, self.shear[e]),
+                        (j, i, crate::math::swapped(self.shear[e])),
+                    ] {
+                        let k = h.start[at + 1] as usize;
+                        h.partner[k] = particles.id[other];
+                        h.shear[k] = xi;
+                        h.start[at + 1] += 1;
+                    }
                 }
             }
         }
@@ -460,20 +463,10 @@ fn sort_by_cell(grid: &CellGrid, particles: &Particles) -> (Vec<u32>, Vec<u32>) 
     (perm, start)
 }
 
-/// A pair's tangential spring as seen from its other particle when `swap`
-/// ([`crate::math::swapped`]).
-#[inline]
-fn orient(xi: Tangent, swap: bool) -> Tangent {
-    if swap {
-        crate::math::swapped(xi)
-    } else {
-        xi
-    }
-}
-
-/// Tangential springs of the touching pairs before a rebuild, indexed by particle id
-/// (ids are 0..n): the pairs whose lower id is `a` are `start[a]..start[a + 1]`, so a
-/// lookup reads a row of two or three entries instead of searching every contact.
+/// Tangential springs of the touching pairs before a rebuild, by particle (its index
+/// before the rebuild's re-sort): the pairs of particle `i` are `start[i]..start[i + 1]`,
+/// each as (partner id, ξ as seen from `i`), so a lookup reads a row of a few entries
+/// and the ids themselves may be anything (global ids of a distributed run).
 struct History {
     start: Vec<u32>,
     partner: Vec<u32>,
@@ -481,19 +474,21 @@ struct History {
 }
 
 impl History {
-    /// The spring of the pair of ids (a, b), 0 if it was not touching.
+    /// The spring of particle `i` (index before the re-sort) with the particle of id
+    /// `partner`, as seen from `i`; 0 if the two were not touching.
     #[inline]
-    fn get(&self, a: u32, b: u32) -> Tangent {
-        let (lo, hi) = (a.min(b) as usize, a.max(b));
-        let (Some(&from), Some(&to)) = (self.start.get(lo), self.start.get(lo + 1)) else {
+    fn get(&self, i: u32, partner: u32) -> Tangent {
+        let i = i as usize;
+        let (Some(&from), Some(&to)) = (self.start.get(i), self.start.get(i + 1)) else {
             return Tangent::default();
         };
         (from as usize..to as usize)
-            .find(|&k| self.partner[k] == hi)
+            .find(|&k| self.partner[k] == partner)
             .map_or(Tangent::default(), |k| self.shear[k])
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn build_rows(
     setup: &Setup,
     grid: &CellGrid,
@@ -501,6 +496,7 @@ fn build_rows(
     p: &Particles,
     range: std::ops::Range<usize>,
     old: &History,
+    perm: &[u32],
 ) -> (Vec<u32>, Vec<u32>, Vec<Tangent>) {
     let mut lens = Vec::with_capacity(range.len());
     let mut nbr = Vec::with_capacity(range.len() * 4);
@@ -537,7 +533,7 @@ fn build_rows(
                 let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
                 if d.length_squared() < cut * cut {
                     nbr.push(j as u32);
-                    shear.push(orient(old.get(p.id[i], p.id[j]), p.id[i] > p.id[j]));
+                    shear.push(old.get(perm[i], p.id[j]));
                 }
             }
         }

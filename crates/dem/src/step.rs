@@ -5,10 +5,12 @@
 //! Outside forces (a coupled solid, a field) enter through [`Hooks`], as LAMMPS fixes do
 //! through `post_force`: the step itself is never copied to add them.
 
-use crate::forces::pair_contacts;
+use crate::comm::{Exchange, Reduce, Serial};
+use crate::forces::{pair_contacts, pair_contacts_on};
 use crate::integrate::{kick_drift, walls_gather_kick, Drift, WallLoad};
 use crate::ledger::EnergyLedger;
-use crate::math::Vector;
+use crate::math::Components;
+use crate::math::{AngVector, Vector};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
@@ -90,40 +92,67 @@ pub fn step(setup: &Setup, s: &mut State, dt: f64) {
 
 /// Advances the state by one time step `dt`, with outside forces from `hooks`.
 pub fn step_with<H: Hooks>(setup: &Setup, s: &mut State, dt: f64, hooks: &mut H) {
+    step_on(setup, s, dt, hooks, &mut Serial);
+}
+
+/// Advances the state by one time step `dt`, with outside forces from `hooks`, its
+/// global figures reduced and its particles exchanged through `comm` ([`crate::comm`];
+/// [`Serial`] in a run on one process).
+pub fn step_on<H: Hooks, C: Exchange>(
+    setup: &Setup,
+    s: &mut State,
+    dt: f64,
+    hooks: &mut H,
+    comm: &mut C,
+) {
     let list = &s.contacts;
     let frame = list.frame.as_ref().map(|f| (f, &list.normal_at_build[..]));
-    let drift = kick_drift(setup, &mut s.particles, &list.pos_at_build, frame, dt);
-    let (change, displacement) = neighbours(setup, s, &drift, hooks);
+    let mut drift = kick_drift(setup, &mut s.particles, &list.pos_at_build, frame, dt);
+    if comm.ranks() > 1 {
+        drift = global_drift(setup, drift, comm);
+    }
+    let (change, displacement) = neighbours(setup, s, &drift, hooks, comm);
     hooks.post_neighbour(&s.particles, change, displacement);
-    pair_contacts(
+    pair_contacts_on(
         setup,
         &mut s.particles,
         &mut s.contacts,
         dt,
         s.ledger.as_mut(),
+        comm,
     );
     hooks.post_force(&mut s.particles);
     s.wall_loads = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt);
+    if comm.ranks() > 1 {
+        global_wall_loads(&mut s.wall_loads, comm);
+    }
     s.time += dt;
     s.step += 1;
 }
 
 /// The neighbour stage: keeps the list while it is still valid, else rebuilds it;
 /// returns what it did and the largest displacement since the list's build.
-fn neighbours<H: Hooks>(
+fn neighbours<H: Hooks, C: Exchange>(
     setup: &Setup,
     s: &mut State,
     drift: &Drift,
     hooks: &mut H,
+    comm: &mut C,
 ) -> (ListChange, f64) {
-    let list = &mut s.contacts;
     if drift.moved && !drift.in_frame {
+        comm.migrate(setup, s);
         let bounds = hooks.grid_box(setup, &s.particles);
-        list.rebuild_within(setup, bounds, &mut s.particles);
+        s.contacts.rebuild_within(setup, bounds, &mut s.particles);
         return (ListChange::Rebuilt, 0.0);
     }
+    comm.refresh(setup, &mut s.particles);
+    let list = &mut s.contacts;
     // Any frame will do for the next step's test; this one follows the particles.
-    let n = s.particles.len();
+    let mut n = [comm.owned(&s.particles) as u64];
+    if comm.ranks() > 1 {
+        comm.sum_u64(&mut n);
+    }
+    let n = n[0] as usize;
     if let Some(f) = list.frame.as_mut() {
         *f = f.estimate(&drift.sums, n);
     }
@@ -133,4 +162,54 @@ fn neighbours<H: Hooks>(
         ListChange::Kept
     };
     (change, drift.displacement)
+}
+
+/// The rebuild test over every rank: the list is rebuilt everywhere when any particle
+/// anywhere has moved too far, and the frame is estimated from every particle.
+fn global_drift<C: Reduce>(setup: &Setup, d: Drift, comm: &C) -> Drift {
+    let mut flags = [d.moved as u64, !d.in_frame as u64];
+    comm.sum_u64(&mut flags);
+    let mut top = [d.displacement, d.sums.radial[1], -d.sums.radial[0]];
+    comm.max(&mut top);
+    // The two largest residuals anywhere bound every pair, across ranks too.
+    let all = comm.gather(d.residuals.iter().map(|r| r.to_bits()).collect());
+    let mut res = [0.0f64; 2];
+    for r in all.into_iter().map(f64::from_bits) {
+        if r > res[1] {
+            res = if r > res[0] { [r, res[0]] } else { [res[0], r] };
+        }
+    }
+    let mut sums: Vec<f64> = (0..Vector::N)
+        .map(|a| d.sums.displacement.get(a))
+        .chain((0..Vector::N).map(|a| d.sums.normal.get(a)))
+        .collect();
+    comm.sum(&mut sums);
+    let mut out = d;
+    out.moved = flags[0] > 0;
+    out.in_frame = flags[1] == 0 && res[0].sqrt() + res[1].sqrt() <= setup.skin;
+    out.displacement = top[0];
+    out.residuals = res;
+    out.sums.radial = [-top[2], top[1]];
+    out.sums.displacement = Vector::from_slice(&sums);
+    out.sums.normal = Vector::from_slice(&sums[Vector::N..]);
+    out
+}
+
+/// The load on each wall from the particles of every rank.
+fn global_wall_loads<C: Reduce>(loads: &mut [WallLoad], comm: &C) {
+    let mut v = Vec::with_capacity(loads.len() * (Vector::N + AngVector::N));
+    let mut n: Vec<u64> = loads.iter().map(|l| l.contacts as u64).collect();
+    for l in loads.iter() {
+        v.extend((0..Vector::N).map(|a| l.force.get(a)));
+        v.extend((0..AngVector::N).map(|a| l.torque.get(a)));
+    }
+    comm.sum(&mut v);
+    comm.sum_u64(&mut n);
+    let width = Vector::N + AngVector::N;
+    for (w, l) in loads.iter_mut().enumerate() {
+        let at = &v[w * width..(w + 1) * width];
+        l.force = Vector::from_slice(at);
+        l.torque = AngVector::from_slice(&at[Vector::N..]);
+        l.contacts = n[w] as u32;
+    }
 }

@@ -1,0 +1,96 @@
+//! The DEM engine's reductions over MPI. Every reduction gathers each rank's values and
+//! combines them in rank order on every rank, rather than calling `MPI_Allreduce`, whose
+//! order of additions the standard leaves to the library: the result is then the same
+//! on every rank and in every run on that many ranks.
+
+use grains_dem::{Exchange, Reduce};
+use mpi::datatype::PartitionMut;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+use mpi::Count;
+
+/// The MPI world: initialised once per process and finalised when dropped.
+pub struct World {
+    // Dropped after `comm` (fields drop in order): finalises MPI.
+    comm: SimpleCommunicator,
+    _universe: mpi::environment::Universe,
+}
+
+impl World {
+    /// Initialises MPI; `None` if it already was in this process.
+    pub fn init() -> Option<World> {
+        let universe = mpi::initialize()?;
+        Some(World {
+            comm: universe.world(),
+            _universe: universe,
+        })
+    }
+
+    /// Every rank's values, `values.len()` each, in rank order.
+    fn all<T: Equivalence + Copy + Default>(&self, values: &[T]) -> Vec<T> {
+        let mut out = vec![T::default(); values.len() * self.ranks()];
+        self.comm.all_gather_into(values, &mut out[..]);
+        out
+    }
+
+    /// Combines each rank's `values` element-wise, in rank order.
+    fn fold<T: Equivalence + Copy + Default>(&self, values: &mut [T], op: impl Fn(T, T) -> T) {
+        let n = values.len();
+        let all = self.all(values);
+        for (k, v) in values.iter_mut().enumerate() {
+            *v = (0..self.ranks())
+                .map(|r| all[r * n + k])
+                .reduce(&op)
+                .unwrap_or(*v);
+        }
+    }
+
+    /// Waits for every rank.
+    pub fn barrier(&self) {
+        self.comm.barrier();
+    }
+}
+
+impl Reduce for World {
+    fn ranks(&self) -> usize {
+        self.comm.size() as usize
+    }
+
+    fn rank(&self) -> usize {
+        self.comm.rank() as usize
+    }
+
+    fn sum(&self, values: &mut [f64]) {
+        self.fold(values, |a, b| a + b);
+    }
+
+    fn sum_u64(&self, values: &mut [u64]) {
+        self.fold(values, u64::wrapping_add);
+    }
+
+    fn max(&self, values: &mut [f64]) {
+        // NaN wins, as a failed test must.
+        self.fold(values, |a, b| if a.is_nan() || a > b { a } else { b });
+    }
+
+    fn gather(&self, words: Vec<u64>) -> Vec<u64> {
+        let counts: Vec<Count> = self.all(&[words.len() as Count]);
+        let displs: Vec<Count> = counts
+            .iter()
+            .scan(0, |at, &c| {
+                let d = *at;
+                *at += c;
+                Some(d)
+            })
+            .collect();
+        let total = counts.iter().map(|&c| c as usize).sum();
+        let mut out = vec![0u64; total];
+        let mut part = PartitionMut::new(&mut out[..], counts, &displs[..]);
+        self.comm.all_gather_varcount_into(&words[..], &mut part);
+        out
+    }
+}
+
+/// Migration and ghosts are not written yet: a `World` of one rank exchanges nothing,
+/// and the front end refuses more ranks ([`crate::refuse`]).
+impl Exchange for World {}
