@@ -237,7 +237,10 @@ impl<const P: u8> Ctx<'_, P> {
         }
         // The deck's law (Hertz, Tsuji, Mindlin) and the step's update are fixed at
         // compile time: the loop then has no branch left and vectorises.
-        let hmt = law.hertz && law.damping == Damping::Tsuji && law.mindlin && !law.limit_damping;
+        let hmt = law.hertz
+            && matches!(law.damping, Damping::Tsuji | Damping::Restitution)
+            && law.mindlin
+            && !law.limit_damping;
         match (hmt, self.dt > 0.0) {
             (true, true) => law_loop::<true, true>(law, b, n, self.dt),
             (true, false) => law_loop::<true, false>(law, b, n, self.dt),
@@ -439,7 +442,7 @@ impl Plain {
                 Damping::Velocity => 1.0,
                 Damping::MassVelocity => m_eff,
                 Damping::Viscoelastic => a * m_eff,
-                Damping::Tsuji => (m_eff * knfac).sqrt(),
+                Damping::Tsuji | Damping::Restitution => (m_eff * knfac).sqrt(),
             }
         };
         let eta_n = self.damp * damp_normal;
