@@ -106,11 +106,17 @@ def test_an_exception_in_a_callback_reaches_the_caller_with_its_traceback(data):
 
 def test_ctrl_c_interrupts_a_long_run_between_steps_and_the_state_goes_on(data, tmp_path):
     sim = grains.Simulation.from_file(data / "column_tiny.toml")
+    # A shell starts a background job with SIGINT ignored, and Python then keeps it
+    # ignored: give Ctrl-C its usual meaning for this test, whoever started pytest.
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        sim.run(until=1e6)
-    timer.cancel()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            sim.run(until=1e6)
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGINT, before)
     at = sim.steps
     assert at > 0
     sim.step(5)
