@@ -93,9 +93,10 @@ def against_bench(bed_path, exe, steps, threads, reps=3):
         assert sim.steps == steps, (sim.steps, steps)
         hashes.setdefault("python", set()).add(sim.state_hash())
     b, c = min(bench), min(called)
+    same = "the same state hash" if len(set().union(*hashes.values())) == 1 else f"DIFFERENT state hashes {hashes}"
     print(f"bench bed {bed_path}, {steps} steps, {threads} thread(s): `grains bench dem` {b:.3f} s, "
           f"run(every=100, callback reading particles()) {c:.3f} s: +{100 * (c / b - 1):.1f} % "
-          f"(best of {reps}, interleaved; state hashes {hashes})")
+          f"(best of {reps}, interleaved; {same})")
 
 
 def best(f, k=3):
