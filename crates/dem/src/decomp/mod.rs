@@ -91,6 +91,11 @@ impl<C: Reduce + Post> Decomposed<C> {
         })
     }
 
+    /// The transport, back.
+    pub fn into_inner(self) -> C {
+        self.comm
+    }
+
     /// The grid of ranks.
     pub fn grid(&self) -> &RankGrid {
         &self.grid
