@@ -68,17 +68,31 @@ pub trait Reduce {
 pub trait Exchange: Reduce {
     /// At a rebuild, before the neighbour list is made: particles that left this rank's
     /// region go to their new rank with their wall and contact history, and the ghosts
-    /// are made anew. The particles [`Exchange::owned`] are first in storage order.
+    /// are made anew.
     fn migrate(&mut self, _setup: &Setup, _state: &mut State) {}
 
-    /// After the drift of every step that keeps the list: the ghosts' positions,
-    /// velocities and spins from their owners.
+    /// Right after the list was rebuilt (and the particles re-sorted): the rank finds
+    /// its particles and its ghosts in their new places.
+    fn rebuilt(&mut self, _setup: &Setup, _state: &mut State) {}
+
+    /// At the end of every step (and of the initial force evaluation): the ghosts take
+    /// their owners' positions, velocities, spins, forces and torques, so the next
+    /// step's kick and drift move each ghost exactly as its owner.
     fn refresh(&mut self, _setup: &Setup, _particles: &mut Particles) {}
 
     /// How many of the stored particles this rank owns (the rest are ghosts).
     fn owned(&self, particles: &Particles) -> usize {
         particles.len()
     }
+}
+
+/// Point-to-point messages between ranks (the neighbours of a decomposition): byte
+/// buffers, delivered in the order they were sent between any two ranks.
+pub trait Post {
+    /// Sends each `(rank, bytes)` of `outgoing`, then returns one message from each rank
+    /// of `from`, in that order. Sends never wait for the matching receive, so every
+    /// rank may send before it receives.
+    fn exchange(&self, outgoing: Vec<(usize, Vec<u8>)>, from: &[usize]) -> Vec<Vec<u8>>;
 }
 
 /// One process, one rank: every reduction returns its input, every exchange does
@@ -89,6 +103,17 @@ pub struct Serial;
 impl Reduce for Serial {}
 
 impl Exchange for Serial {}
+
+/// A rank has no neighbours to write to.
+impl Post for Serial {
+    fn exchange(&self, outgoing: Vec<(usize, Vec<u8>)>, from: &[usize]) -> Vec<Vec<u8>> {
+        assert!(
+            outgoing.is_empty() && from.is_empty(),
+            "one rank has no neighbours"
+        );
+        Vec::new()
+    }
+}
 
 #[cfg(test)]
 mod tests {

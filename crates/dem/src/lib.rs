@@ -21,6 +21,7 @@
 pub mod checkpoint;
 pub mod comm;
 pub mod contact;
+pub mod decomp;
 pub mod diagnostics;
 pub mod domain;
 pub mod forces;

@@ -126,6 +126,7 @@ pub fn step_on<H: Hooks, C: Exchange>(
     if comm.ranks() > 1 {
         global_wall_loads(&mut s.wall_loads, comm);
     }
+    comm.refresh(setup, &mut s.particles);
     s.time += dt;
     s.step += 1;
 }
@@ -143,9 +144,9 @@ fn neighbours<H: Hooks, C: Exchange>(
         comm.migrate(setup, s);
         let bounds = hooks.grid_box(setup, &s.particles);
         s.contacts.rebuild_within(setup, bounds, &mut s.particles);
+        comm.rebuilt(setup, s);
         return (ListChange::Rebuilt, 0.0);
     }
-    comm.refresh(setup, &mut s.particles);
     let list = &mut s.contacts;
     // Any frame will do for the next step's test; this one follows the particles.
     let mut n = [comm.owned(&s.particles) as u64];

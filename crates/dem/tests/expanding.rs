@@ -2,26 +2,14 @@
 //! contact, and rebuilds less often than the classic rule on a ring thrown outward.
 
 use glam::DVec2;
-use grains_dem::{step, ContactModel, Domain, Material, Particles, Setup, State};
+use grains_dem::{step, Domain, Particles, Setup, State};
+
+#[path = "common/peer.rs"]
+#[allow(dead_code)]
+mod peer;
 
 fn ring(frame: bool, r_out: f64) -> (Setup, Particles) {
-    let material = Material {
-        name: "m".into(),
-        density: 1.0,
-        youngs: None,
-        poisson: None,
-        restitution: None,
-        friction: None,
-        inertia_factor: 0.5,
-    };
-    let model = ContactModel::HookeHistory {
-        kn: 1.0e4,
-        kt: 1.0e4 * 2.0 / 7.0,
-        gamma_n: 5.0,
-        gamma_t: 2.5,
-        mu: 0.3,
-        limit_damping: false,
-    };
+    let (material, model) = (peer::material(), peer::hooke(1.0e4, 5.0));
     let domain = Domain {
         lo: DVec2::splat(-200.0),
         hi: DVec2::splat(200.0),

@@ -4,9 +4,10 @@
 //! [`grains_dem::Exchange`]) over MPI (rsmpi on the system's MPI), so the engines never
 //! see MPI themselves.
 //!
-//! What is here: the reductions, in rank order, and the launch checks. What is not yet:
-//! the domain decomposition (migration and ghosts at a rebuild), so a run on more than
-//! one rank is refused (docs/parallel.md).
+//! What is here: the reductions, in rank order, the point-to-point messages the
+//! engine's domain decomposition ([`grains_dem::decomp`]) sends, and the launch checks.
+//! What is not yet: `grains run` over the decomposition, so a run on more than one rank
+//! is refused (docs/parallel.md).
 
 #[cfg(feature = "mpi")]
 mod world;
@@ -65,8 +66,8 @@ pub fn refuse(launch: Launch) -> Option<String> {
     }
     Some(if ENABLED {
         format!(
-            "rank {} of {}: ranks = {} is not supported yet: grains runs on 1 rank \
-             (domain decomposition is not implemented, docs/parallel.md)",
+            "rank {} of {}: ranks = {} is not supported yet: grains run uses 1 rank \
+             (the engine's domain decomposition is not wired to runs, docs/parallel.md)",
             launch.rank, launch.ranks, launch.ranks
         )
     } else {

@@ -3,6 +3,7 @@
 //! order of additions the standard leaves to the library: the result is then the same
 //! on every rank and in every run on that many ranks.
 
+use grains_dem::comm::Post;
 use grains_dem::{Exchange, Reduce};
 use mpi::datatype::PartitionMut;
 use mpi::topology::SimpleCommunicator;
@@ -91,6 +92,33 @@ impl Reduce for World {
     }
 }
 
-/// Migration and ghosts are not written yet: a `World` of one rank exchanges nothing,
-/// and the front end refuses more ranks ([`crate::refuse`]).
+/// A `World` by itself exchanges no particles: a decomposed run wraps it in
+/// [`grains_dem::decomp::Decomposed`], which does, over [`Post`].
 impl Exchange for World {}
+
+/// Every send is posted at once (`MPI_Isend`), then the receives are taken in the
+/// order asked, then the sends are waited for: no rank blocks on a send, whatever the
+/// message sizes. Messages between two ranks arrive in the order sent (MPI's
+/// non-overtaking rule), which is what the decomposition relies on.
+impl Post for World {
+    fn exchange(&self, outgoing: Vec<(usize, Vec<u8>)>, from: &[usize]) -> Vec<Vec<u8>> {
+        mpi::request::scope(|scope| {
+            let sends: Vec<_> = outgoing
+                .iter()
+                .map(|(to, bytes)| {
+                    self.comm
+                        .process_at_rank(*to as i32)
+                        .immediate_send(scope, &bytes[..])
+                })
+                .collect();
+            let got = from
+                .iter()
+                .map(|&q| self.comm.process_at_rank(q as i32).receive_vec::<u8>().0)
+                .collect();
+            for s in sends {
+                s.wait();
+            }
+            got
+        })
+    }
+}

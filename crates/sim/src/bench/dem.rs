@@ -67,7 +67,7 @@ pub fn run(bed: &Bed, steps: u64) -> Result<Report, String> {
 }
 
 /// The peer benchmark's physics in a box `lo..hi`, periodic in x, floor at y = 0.
-fn peer_setup(lo: DVec2, hi: DVec2) -> Setup {
+pub fn peer_setup(lo: DVec2, hi: DVec2) -> Setup {
     let material = Material {
         name: "bench".into(),
         density: 1.0,

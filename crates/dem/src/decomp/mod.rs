@@ -1,0 +1,401 @@
+//! Domain decomposition: each rank owns the particles in its box of a Cartesian
+//! [`RankGrid`] and keeps copies (ghosts) of its neighbours' particles within the
+//! contact range plus the skin (2 r_max + skin) of its box.
+//!
+//! [`Decomposed`] is the [`Exchange`] of such a run, over any transport that offers
+//! [`Reduce`] and [`Post`] (in-process ranks: [`local`]; MPI: `grains-mpi`):
+//!
+//! - at a rebuild, particles whose centre left the box go to the neighbour that owns
+//!   them now, with every field, their wall springs and their (partner id, spring)
+//!   rows; then each rank sends its neighbours fresh ghosts;
+//! - at the end of every step, each ghost takes its owner's position, velocity, spin,
+//!   force and torque, so the next kick and drift move it exactly as the owner;
+//! - a pair across a boundary is listed and computed on both ranks (the law gives the
+//!   two sides bitwise-opposite forces), so no force travels back; a ghost's own force
+//!   and wall contacts are not computed (its walls are masked off, so wall loads count
+//!   owned particles only).
+//!
+//! A rank grid of one rank exchanges nothing and is the serial run bit for bit.
+
+pub mod grid;
+pub mod local;
+pub mod words;
+
+pub use grid::{GridError, RankGrid};
+
+use crate::comm::{Exchange, Post, Reduce};
+use crate::math::{self, Tangent, DIM};
+use crate::neighbours::ContactList;
+use crate::particles::Particles;
+use crate::setup::Setup;
+use crate::step::State;
+use std::collections::HashMap;
+use words::Reader;
+
+/// A particle's tangential springs as (partner id, spring as seen from it).
+type Rows = Vec<(u32, Tangent)>;
+
+/// One rank of a decomposed run.
+pub struct Decomposed<C> {
+    comm: C,
+    grid: RankGrid,
+    /// Ghosts are the particles within this distance of a rank's box (m).
+    halo: f64,
+    neighbours: Vec<usize>,
+    /// Whether each stored particle is this rank's (else a ghost).
+    owned: Vec<bool>,
+    /// Per neighbour (as `neighbours`): the ids this rank sends it as ghosts, and the
+    /// ids of the ghosts it sends here, each in sending order; then their indices after
+    /// the last rebuild.
+    send_ids: Vec<Vec<u32>>,
+    recv_ids: Vec<Vec<u32>>,
+    send_at: Vec<Vec<u32>>,
+    recv_at: Vec<Vec<u32>>,
+}
+
+impl<C: Reduce + Post> Decomposed<C> {
+    /// The rank of `comm` in the grid `dims` (chosen by [`RankGrid::auto`] when `None`)
+    /// over the set-up's domain, for particles up to `r_max` in radius (on any rank).
+    pub fn new(
+        comm: C,
+        setup: &Setup,
+        dims: Option<[usize; DIM]>,
+        r_max: f64,
+    ) -> Result<Self, GridError> {
+        if setup.granular.is_some() {
+            return Err(GridError::Unsupported("the granular contact law"));
+        }
+        if crate::verlet::frame_centre(setup).is_some() {
+            return Err(GridError::Unsupported("an expanding neighbour frame"));
+        }
+        let mut r = [r_max];
+        comm.max(&mut r);
+        let halo = 2.0 * r[0] + setup.skin;
+        let ranks = comm.ranks();
+        let grid = match dims {
+            Some(d) => RankGrid::new(setup.domain, d, ranks, halo)?,
+            None => RankGrid::auto(setup.domain, ranks, halo)?,
+        };
+        let neighbours = grid.neighbours(comm.rank());
+        let none = vec![Vec::new(); neighbours.len()];
+        Ok(Decomposed {
+            comm,
+            grid,
+            halo,
+            neighbours,
+            owned: Vec::new(),
+            send_ids: none.clone(),
+            recv_ids: none.clone(),
+            send_at: none.clone(),
+            recv_at: none,
+        })
+    }
+
+    /// The transport, back.
+    pub fn into_inner(self) -> C {
+        self.comm
+    }
+
+    /// The grid of ranks.
+    pub fn grid(&self) -> &RankGrid {
+        &self.grid
+    }
+
+    /// Whether stored particle `i` is this rank's own (else a ghost).
+    pub fn owns(&self, i: usize) -> bool {
+        self.owned.get(i).copied().unwrap_or(true)
+    }
+
+    /// This rank's part of `whole`, a state every rank holds in full (made with
+    /// [`State::new`], or read back): its particles and ghosts with every field as they
+    /// are, its particles' springs, the list rebuilt.
+    pub fn start(&mut self, setup: &Setup, whole: &State) -> State {
+        if self.neighbours.is_empty() {
+            // One rank: the serial state as it is.
+            self.owned = vec![true; whole.particles.len()];
+            return whole.clone();
+        }
+        let p = &whole.particles;
+        let me = self.comm.rank();
+        let owner: Vec<usize> = p.pos.iter().map(|&x| self.grid.owner(x)).collect();
+        let mine: Vec<bool> = owner.iter().map(|&o| o == me).collect();
+        let mut rows = rows_of(&whole.contacts, p, &mine);
+        let nw = setup.walls.len();
+        let mut local = Particles::default();
+        let (mut hist, mut walls) = (Vec::new(), Vec::new());
+        for i in (0..p.len()).filter(|&i| mine[i]) {
+            words::copy_particle(p, i, &mut local);
+            hist.push(std::mem::take(&mut rows[i]));
+            walls.push(wall_row(&whole.contacts, i, nw));
+        }
+        for (k, &q) in self.neighbours.iter().enumerate() {
+            let near_me = |i: usize| owner[i] == q && self.grid.distance(p.pos[i], me) <= self.halo;
+            self.recv_ids[k] = (0..p.len())
+                .filter(|&i| near_me(i))
+                .map(|i| p.id[i])
+                .collect();
+            for i in (0..p.len()).filter(|&i| near_me(i)) {
+                words::copy_particle(p, i, &mut local);
+            }
+            let near_q = |i: usize| mine[i] && self.grid.distance(p.pos[i], q) <= self.halo;
+            self.send_ids[k] = (0..p.len())
+                .filter(|&i| near_q(i))
+                .map(|i| p.id[i])
+                .collect();
+        }
+        let mut s = State {
+            wall_loads: whole.wall_loads.clone(),
+            time: whole.time,
+            step: whole.step,
+            ..Default::default()
+        };
+        s.contacts.builds = whole.contacts.builds;
+        install(setup, &mut s, local, hist, walls);
+        let bounds = (setup.domain.lo, setup.domain.hi);
+        s.contacts.rebuild_within(setup, bounds, &mut s.particles);
+        s.contacts.builds = whole.contacts.builds;
+        self.rebuilt(setup, &mut s);
+        s
+    }
+
+    /// The state hash of the run over every rank ([`crate::diagnostics::state_hash`]).
+    pub fn state_hash(&self, s: &State) -> u64 {
+        crate::diagnostics::state_hash_on(s, self, |i| self.owns(i))
+    }
+
+    /// Sends each neighbour its part of `out` (aligned with `neighbours`) and returns
+    /// what each sent here, as words.
+    fn swap(&self, out: Vec<Vec<u64>>) -> Vec<Vec<u64>> {
+        let outgoing = self
+            .neighbours
+            .iter()
+            .zip(out)
+            .map(|(&q, w)| (q, words::bytes_of(&w)))
+            .collect();
+        let got = self.comm.exchange(outgoing, &self.neighbours);
+        got.iter().map(|b| words::words_of(b)).collect()
+    }
+
+    fn slot(&self, q: usize) -> usize {
+        self.neighbours
+            .iter()
+            .position(|&n| n == q)
+            .unwrap_or_else(|| {
+                panic!(
+                    "a particle moved past the neighbours of rank {} in one list's life",
+                    self.comm.rank()
+                )
+            })
+    }
+}
+
+/// Installs `local` (owned particles first, then ghosts) into `s` with a list that
+/// holds nothing but the owned particles' springs, in the form the rebuild carries
+/// over (rows by particle index, partner by index).
+fn install(
+    setup: &Setup,
+    s: &mut State,
+    local: Particles,
+    hist: Vec<Rows>,
+    walls: Vec<Vec<Tangent>>,
+) {
+    let n = local.len();
+    let nw = setup.walls.len();
+    let at: HashMap<u32, u32> = local
+        .id
+        .iter()
+        .enumerate()
+        .map(|(k, &id)| (id, k as u32))
+        .collect();
+    let list = &mut s.contacts;
+    list.row = vec![0];
+    list.nbr.clear();
+    list.shear.clear();
+    for (i, rows) in hist.iter().enumerate() {
+        for &(j, xi) in rows {
+            // A pair of two owned particles is in both rows: listed once.
+            if let Some(&j) = at
+                .get(&j)
+                .filter(|&&j| j as usize >= hist.len() || i < j as usize)
+            {
+                list.nbr.push(j);
+                list.shear.push(xi);
+            }
+        }
+        list.row.push(list.nbr.len() as u32);
+    }
+    list.row.resize(n + 1, list.nbr.len() as u32);
+    list.index_owners();
+    list.history.clear();
+    list.wall_shear = walls.into_iter().flatten().collect();
+    list.wall_shear.resize(n * nw, Tangent::default());
+    s.particles = local;
+}
+
+/// Particle `i`'s wall springs.
+fn wall_row(list: &ContactList, i: usize, nw: usize) -> Vec<Tangent> {
+    list.wall_shear
+        .get(i * nw..(i + 1) * nw)
+        .map_or_else(|| vec![Tangent::default(); nw], <[Tangent]>::to_vec)
+}
+
+/// The springs of each particle `keep` names, by its index, from the list.
+fn rows_of(list: &ContactList, p: &Particles, keep: &[bool]) -> Vec<Rows> {
+    let mut rows = vec![Vec::new(); p.len()];
+    if list.owner.len() != list.nbr.len() || list.shear.len() != list.nbr.len() {
+        return rows;
+    }
+    for e in 0..list.nbr.len() {
+        let (i, j, xi) = (list.owner[e] as usize, list.nbr[e] as usize, list.shear[e]);
+        if xi == Tangent::default() {
+            continue;
+        }
+        if keep[i] {
+            rows[i].push((p.id[j], xi));
+        }
+        if keep[j] {
+            rows[j].push((p.id[i], math::swapped(xi)));
+        }
+    }
+    rows
+}
+
+impl<C: Reduce> Reduce for Decomposed<C> {
+    fn ranks(&self) -> usize {
+        self.comm.ranks()
+    }
+
+    fn rank(&self) -> usize {
+        self.comm.rank()
+    }
+
+    fn sum(&self, values: &mut [f64]) {
+        self.comm.sum(values);
+    }
+
+    fn sum_u64(&self, values: &mut [u64]) {
+        self.comm.sum_u64(values);
+    }
+
+    fn max(&self, values: &mut [f64]) {
+        self.comm.max(values);
+    }
+
+    fn gather(&self, words: Vec<u64>) -> Vec<u64> {
+        self.comm.gather(words)
+    }
+}
+
+impl<C: Reduce + Post> Exchange for Decomposed<C> {
+    fn migrate(&mut self, setup: &Setup, s: &mut State) {
+        if self.neighbours.is_empty() {
+            return;
+        }
+        let me = self.comm.rank();
+        let nw = setup.walls.len();
+        let p = &s.particles;
+        let mut rows = rows_of(&s.contacts, p, &self.owned);
+        // Round 1: particles that left the box, with their history.
+        let mut out = vec![vec![0u64]; self.neighbours.len()];
+        let mut local = Particles::default();
+        let (mut hist, mut walls) = (Vec::new(), Vec::new());
+        for i in (0..p.len()).filter(|&i| self.owned[i]) {
+            let wr = wall_row(&s.contacts, i, nw);
+            let to = self.grid.owner(p.pos[i]);
+            if to == me {
+                words::copy_particle(p, i, &mut local);
+                hist.push(std::mem::take(&mut rows[i]));
+                walls.push(wr);
+                continue;
+            }
+            let w = &mut out[self.slot(to)];
+            w[0] += 1;
+            words::put_particle(w, p, i);
+            words::put_history(w, &wr, &rows[i]);
+        }
+        for got in self.swap(out) {
+            let mut r = Reader::new(&got);
+            for _ in 0..r.word() {
+                words::get_particle(&mut r, &mut local);
+                let (wr, rw) = words::get_history(&mut r, nw);
+                walls.push(wr);
+                hist.push(rw);
+            }
+        }
+        // Round 2: fresh ghosts of the particles now owned.
+        let mut out = vec![Vec::new(); self.neighbours.len()];
+        for (k, &q) in self.neighbours.iter().enumerate() {
+            let near: Vec<usize> = (0..local.len())
+                .filter(|&i| self.grid.distance(local.pos[i], q) <= self.halo)
+                .collect();
+            self.send_ids[k] = near.iter().map(|&i| local.id[i]).collect();
+            for i in near {
+                words::put_particle(&mut out[k], &local, i);
+            }
+        }
+        for (k, got) in self.swap(out).into_iter().enumerate() {
+            let mut r = Reader::new(&got);
+            let from = local.len();
+            while !r.done() {
+                words::get_particle(&mut r, &mut local);
+            }
+            self.recv_ids[k] = local.id[from..].to_vec();
+        }
+        install(setup, s, local, hist, walls);
+    }
+
+    fn rebuilt(&mut self, _setup: &Setup, s: &mut State) {
+        let me = self.comm.rank();
+        let p = &s.particles;
+        self.owned = p.pos.iter().map(|&x| self.grid.owner(x) == me).collect();
+        // A ghost's wall contacts are its owner's to compute (and to load the wall with).
+        for (near, &own) in s.contacts.wall_near.iter_mut().zip(&self.owned) {
+            if !own {
+                *near = 0;
+            }
+        }
+        let at: HashMap<u32, u32> =
+            p.id.iter()
+                .enumerate()
+                .map(|(k, &id)| (id, k as u32))
+                .collect();
+        let find = |ids: &Vec<Vec<u32>>| -> Vec<Vec<u32>> {
+            ids.iter()
+                .map(|v| v.iter().map(|id| at[id]).collect())
+                .collect()
+        };
+        self.send_at = find(&self.send_ids);
+        self.recv_at = find(&self.recv_ids);
+    }
+
+    fn refresh(&mut self, _setup: &Setup, p: &mut Particles) {
+        if self.neighbours.is_empty() {
+            return;
+        }
+        let out = self
+            .send_at
+            .iter()
+            .map(|idx| {
+                let mut w = Vec::new();
+                for &i in idx {
+                    words::put_motion(&mut w, p, i as usize);
+                }
+                w
+            })
+            .collect();
+        for (k, got) in self.swap(out).into_iter().enumerate() {
+            let mut r = Reader::new(&got);
+            for &i in &self.recv_at[k] {
+                words::get_motion(&mut r, p, i as usize);
+            }
+        }
+    }
+
+    fn owned(&self, particles: &Particles) -> usize {
+        if self.owned.len() == particles.len() {
+            self.owned.iter().filter(|&&o| o).count()
+        } else {
+            particles.len()
+        }
+    }
+}

@@ -1,0 +1,265 @@
+//! The domain decomposition on in-process ranks (threads joined by channels): the same
+//! code path an MPI run takes, with nothing but cargo.
+
+use glam::DVec2;
+use grains_dem::decomp::local::{run_ranks, Local};
+use grains_dem::decomp::{Decomposed, RankGrid};
+use grains_dem::diagnostics::state_hash;
+use grains_dem::{step, step_on, Domain, NoHooks, Particles, Setup, State};
+
+#[path = "common/peer.rs"]
+mod peer;
+
+fn setup(domain: Domain, floor: bool, gravity: DVec2, skin: f64) -> Setup {
+    let walls = floor.then(peer::floor).into_iter().collect();
+    let (material, model) = (peer::material(), peer::hooke(4000.0, 87.0));
+    Setup::new(domain, vec![material], model, walls, gravity, skin).unwrap()
+}
+
+/// Touching pairs whose lower id this rank owns (each pair counted once over the ranks).
+fn contacts(d: &Decomposed<Local>, set: &Setup, s: &State) -> u64 {
+    let p = &s.particles;
+    let l = &s.contacts;
+    let mut n = 0;
+    for e in 0..l.nbr.len() {
+        let (i, j) = (l.owner[e] as usize, l.nbr[e] as usize);
+        let r = p.radius[i] + p.radius[j];
+        let touching = set.domain.min_image(p.pos[j] - p.pos[i]).length() < r;
+        if touching && d.owns(if p.id[i] < p.id[j] { i } else { j }) {
+            n += 1;
+        }
+    }
+    n
+}
+
+/// One free particle in a periodic unit box on a 2 × 2 grid: it crosses faces and the
+/// corner where the four boxes meet, always owned by exactly one rank, the rank its
+/// position names, and on the path x0 + v t (bit for bit the serial run's).
+#[test]
+fn a_particle_crosses_every_face_and_corner_of_a_2x2_grid() {
+    let domain = Domain {
+        lo: DVec2::ZERO,
+        hi: DVec2::ONE,
+        periodic: [true, true],
+    };
+    let set = setup(domain, false, DVec2::ZERO, 0.004);
+    let dt = 1e-3;
+    let steps = 1500;
+    let mut visited = [false; 4];
+    for v in [
+        DVec2::new(1.0, 1.0),
+        DVec2::new(-1.0, 1.0),
+        DVec2::new(1.0, 0.37),
+        DVec2::new(0.0, -1.3),
+    ] {
+        let x0 = DVec2::new(0.3, 0.3);
+        let mut p = Particles::default();
+        p.push(x0, 0.01, 1.0, 0.5, 0, v, 0.0);
+        let whole = State::new(&set, p);
+        let mut serial = whole.clone();
+        let mut path = Vec::new();
+        for _ in 0..steps {
+            step(&set, &mut serial, dt);
+            path.push(serial.particles.pos[0]);
+        }
+        let per_rank = run_ranks(4, |l| {
+            let mut d = Decomposed::new(l, &set, Some([2, 2]), 0.01).unwrap();
+            let mut s = d.start(&set, &whole);
+            let mut mine = Vec::new();
+            for _ in 0..steps {
+                step_on(&set, &mut s, dt, &mut NoHooks, &mut d);
+                let at = (0..s.particles.len()).find(|&i| d.owns(i));
+                mine.push(at.map(|i| (s.particles.pos[i], s.particles.vel[i])));
+            }
+            mine
+        });
+        let grid = RankGrid::new(domain, [2, 2], 4, 0.024).unwrap();
+        for k in 0..steps {
+            let owners: Vec<usize> = (0..4).filter(|&r| per_rank[r][k].is_some()).collect();
+            assert_eq!(owners.len(), 1, "step {k}: owned by {owners:?}");
+            let (x, vel) = per_rank[owners[0]][k].unwrap();
+            // Ownership changes at rebuilds: between them a particle strays at most
+            // skin/2 from its owner's box.
+            assert!(grid.distance(x, owners[0]) <= 0.002, "step {k}: {x}");
+            visited[owners[0]] = true;
+            assert_eq!(x, path[k], "step {k}: the serial path");
+            assert_eq!(vel, v);
+            let t = (k + 1) as f64 * dt;
+            let want = x0 + v * t;
+            let want = want - want.floor();
+            let off = x - want;
+            let off = off - off.round();
+            assert!(off.length() < 1e-12, "step {k}: {x} against {want}");
+        }
+        if v == DVec2::ONE {
+            // Along the diagonal it goes through the corners, from rank 0 to rank 3.
+            let owner = |k: usize| (0..4).find(|&r| per_rank[r][k].is_some()).unwrap();
+            assert!((1..steps).any(|k| owner(k - 1) == 0 && owner(k) == 3));
+        }
+    }
+    assert!(visited.iter().all(|&b| b), "visited {visited:?}");
+}
+
+/// A column of disks falling onto the floor (and toppling), each touching at most two others, so every
+/// force is a sum of at most two pair terms (whose order does not matter): the state
+/// hash is the serial one on 1, 2, 3 and 4 ranks and grids that cut the column,
+/// including one where two ranks own nothing.
+#[test]
+fn a_falling_column_has_the_serial_hash_on_1_to_4_ranks() {
+    let domain = Domain {
+        lo: DVec2::ZERO,
+        hi: DVec2::new(1.0, 2.0),
+        periodic: [false, false],
+    };
+    let set = setup(domain, true, DVec2::new(0.0, -9.81), 0.01);
+    let mut p = Particles::default();
+    for k in 0..12 {
+        let x = 0.5 + if k % 2 == 0 { 0.003 } else { -0.003 };
+        p.push(
+            DVec2::new(x, 0.3 + 0.045 * k as f64),
+            0.02,
+            1.0,
+            0.5,
+            0,
+            DVec2::ZERO,
+            0.0,
+        );
+    }
+    let whole = State::new(&set, p);
+    let dt = 5e-5;
+    let steps = 8000;
+    let mut serial = whole.clone();
+    let mut hashes = Vec::new();
+    let mut springs = 0;
+    for k in 0..steps {
+        step(&set, &mut serial, dt);
+        if k % 500 == 499 {
+            hashes.push(state_hash(&serial));
+        }
+        let live = serial.contacts.shear.iter().filter(|x| **x != 0.0).count();
+        springs = springs.max(live);
+        // The premise: no disk touches three others.
+        let l = &serial.contacts;
+        let mut touching = [0; 12];
+        for e in 0..l.nbr.len() {
+            let (i, j) = (l.owner[e] as usize, l.nbr[e] as usize);
+            let p = &serial.particles;
+            if (p.pos[j] - p.pos[i]).length() < p.radius[i] + p.radius[j] {
+                touching[i] += 1;
+                touching[j] += 1;
+            }
+        }
+        assert!(touching.iter().all(|&t| t <= 2), "step {k}: {touching:?}");
+    }
+    assert!(springs >= 3, "the column had at most {springs} springs");
+    for (ranks, dims) in [
+        (1, [1, 1]),
+        (2, [2, 1]),
+        (3, [1, 3]),
+        (4, [2, 2]),
+        (4, [1, 4]),
+    ] {
+        let out = run_ranks(ranks, |l| {
+            let mut d = Decomposed::new(l, &set, Some(dims), 0.02).unwrap();
+            let mut s = d.start(&set, &whole);
+            let mut hs = Vec::new();
+            let mut owned = 0;
+            for k in 0..steps {
+                step_on(&set, &mut s, dt, &mut NoHooks, &mut d);
+                if k % 500 == 499 {
+                    hs.push(d.state_hash(&s));
+                }
+                owned = owned.max(s.particles.len());
+            }
+            (hs, owned)
+        });
+        for (r, (hs, _)) in out.iter().enumerate() {
+            assert_eq!(hs, &hashes, "{dims:?}, rank {r}");
+        }
+        if dims == [1, 4] {
+            // The column stays below y = 0.8: the top two ranks never hold a particle.
+            assert_eq!((out[2].1, out[3].1), (0, 0));
+            assert!(out[0].1 > 0 && out[1].1 > 0);
+        }
+    }
+}
+
+/// A settled bed spread over 2 × 2 ranks keeps every spring; moved by half its width
+/// along the periodic axis, its particles change rank with their springs and wall
+/// springs, and the contacts and springs are still the serial ones bit for bit.
+#[test]
+fn a_settled_bed_keeps_its_contacts_and_springs_through_migration() {
+    let nx = 20;
+    let (set, p) = peer::bed(8 * nx, nx);
+    let mut whole = State::new(&set, p);
+    for _ in 0..2000 {
+        step(&set, &mut whole, 5e-4);
+    }
+    let shift = |s: &mut State| {
+        for x in s.particles.pos.iter_mut() {
+            *x = set.domain.wrap(*x + DVec2::new(0.5 * nx as f64, 0.0));
+        }
+    };
+    let mut moved = whole.clone();
+    shift(&mut moved);
+    moved.contacts.rebuild(&set, &mut moved.particles);
+    let count = |s: &State| {
+        let p = &s.particles;
+        let l = &s.contacts;
+        (0..l.nbr.len())
+            .filter(|&e| {
+                let (i, j) = (l.owner[e] as usize, l.nbr[e] as usize);
+                let d = set.domain.min_image(p.pos[j] - p.pos[i]);
+                d.length() < p.radius[i] + p.radius[j]
+            })
+            .count() as u64
+    };
+    let want = [
+        (state_hash(&whole), count(&whole)),
+        (state_hash(&moved), count(&moved)),
+    ];
+    assert!(want[0].1 > 60, "{} contacts", want[0].1);
+    let wall_springs = whole
+        .contacts
+        .wall_shear
+        .iter()
+        .filter(|x| **x != 0.0)
+        .count();
+    assert!(wall_springs > 10, "{wall_springs} wall springs");
+    let out = run_ranks(4, |l| {
+        let mut d = Decomposed::new(l, &set, Some([2, 2]), 0.5).unwrap();
+        let mut s = d.start(&set, &whole);
+        let before = (d.state_hash(&s), contacts(&d, &set, &s));
+        // Every particle, ghosts too, moves by the same rounding as the serial one.
+        shift(&mut s);
+        grains_dem::Exchange::migrate(&mut d, &set, &mut s);
+        s.contacts.rebuild(&set, &mut s.particles);
+        grains_dem::Exchange::rebuilt(&mut d, &set, &mut s);
+        let walls: Vec<(u32, u64)> = (0..s.particles.len())
+            .filter(|&i| d.owns(i))
+            .map(|i| (s.particles.id[i], s.contacts.wall_shear[i].to_bits()))
+            .collect();
+        ([before, (d.state_hash(&s), contacts(&d, &set, &s))], walls)
+    });
+    let mut walls: Vec<(u32, u64)> = out.iter().flat_map(|o| o.1.clone()).collect();
+    walls.sort_unstable();
+    let mut want_walls: Vec<(u32, u64)> = (0..moved.particles.len())
+        .map(|i| {
+            (
+                moved.particles.id[i],
+                moved.contacts.wall_shear[i].to_bits(),
+            )
+        })
+        .collect();
+    want_walls.sort_unstable();
+    assert_eq!(walls, want_walls, "wall springs after the move");
+    let out: Vec<_> = out.into_iter().map(|o| o.0).collect();
+    for (r, got) in out.iter().enumerate() {
+        assert_eq!(got[0].0, want[0].0, "rank {r}: hash before the move");
+        assert_eq!(got[1].0, want[1].0, "rank {r}: hash after the move");
+    }
+    for k in 0..2 {
+        let total: u64 = out.iter().map(|g| g[k].1).sum();
+        assert_eq!(total, want[k].1, "contacts {}", ["before", "after"][k]);
+    }
+}
