@@ -14,8 +14,8 @@ use crate::setup::Setup;
 use crate::verlet::{frame_centre, Comoving};
 use crate::CHUNK;
 
-/// One contact's history under the granular law.
-pub type GranularHistory = [f64; crate::granular::WIDTH];
+pub use crate::history::GranularHistory;
+use crate::history::Histories;
 use rayon::prelude::*;
 
 /// Half neighbour list (each pair once, owned by the lower index) with per-entry
@@ -50,9 +50,9 @@ pub struct ContactList {
     pub wall_shear: Vec<Tangent>,
     /// Number of walls (stride of `wall_shear`).
     pub n_walls: usize,
-    /// With the granular law ([`crate::granular`]): each entry's contact history, in
-    /// place of `shear` (empty with the linear law).
-    pub history: Vec<GranularHistory>,
+    /// With the granular law ([`crate::granular`]): the contact history of each
+    /// touching entry, in place of `shear` (empty with the linear law).
+    pub history: Histories,
     /// With the granular law: each particle–wall pair's history, `[i * n_walls + w]`.
     pub wall_history: Vec<GranularHistory>,
     /// Positions at the last rebuild, for the skin criterion.
@@ -181,6 +181,14 @@ impl ContactList {
         self.nbr.is_empty()
     }
 
+    /// The granular law's history of entry `e` (zero where the pair does not touch), or
+    /// `None` when the list keeps none (the linear law).
+    pub fn granular(&self, e: usize) -> Option<GranularHistory> {
+        self.history
+            .kept(self.nbr.len())
+            .then(|| self.history.get(e, self.owner[e]))
+    }
+
     /// Re-sorts the particles by cell, rebuilds the list and carries the tangential
     /// history of touching pairs (and walls) over to the new order. The cell grid spans
     /// the domain.
@@ -263,22 +271,17 @@ impl ContactList {
         self.ftan.resize(m, AngVector::default());
         self.build_reverse(n);
         self.history = match old_granular {
-            Some(old) => self
-                .owner
-                .iter()
-                .zip(&self.nbr)
-                .map(|(&i, &j)| {
-                    let (a, b) = (particles.id[i as usize], particles.id[j as usize]);
-                    let h = old.get(&(a.min(b), a.max(b))).copied();
-                    let h = h.unwrap_or([0.0; crate::granular::WIDTH]);
-                    if a > b {
-                        crate::granular::swapped(&h)
-                    } else {
-                        h
-                    }
+            Some(old) => Histories::from_entries(&self.owner, n.div_ceil(CHUNK), |e| {
+                let (i, j) = (self.owner[e] as usize, self.nbr[e] as usize);
+                let (a, b) = (particles.id[i], particles.id[j]);
+                let h = old.get(&(a.min(b), a.max(b)))?;
+                Some(if a > b {
+                    crate::granular::swapped(h)
+                } else {
+                    *h
                 })
-                .collect(),
-            None => Vec::new(),
+            }),
+            None => Histories::default(),
         };
         self.find_walls(setup, particles);
         if granular {
@@ -305,10 +308,11 @@ impl ContactList {
         particles: &Particles,
     ) -> std::collections::HashMap<(u32, u32), GranularHistory> {
         let mut out = std::collections::HashMap::new();
-        if self.history.len() != self.nbr.len() || self.owner.len() != self.nbr.len() {
+        if !self.history.kept(self.nbr.len()) || self.owner.len() != self.nbr.len() {
             return out;
         }
-        for ((&i, &j), h) in self.owner.iter().zip(&self.nbr).zip(&self.history) {
+        for (e, (&i, &j)) in self.owner.iter().zip(&self.nbr).enumerate() {
+            let h = &self.history.get(e, i);
             if h.iter().all(|&x| x == 0.0) {
                 continue;
             }
