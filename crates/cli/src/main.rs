@@ -3,6 +3,7 @@
 //! messages and exit codes.
 
 mod interrupt;
+mod memory;
 mod progress;
 
 use clap::{Parser, Subcommand};
@@ -175,6 +176,7 @@ enum BenchCommand {
 }
 
 fn main() -> ExitCode {
+    memory::return_large_blocks();
     // Started by mpirun on several ranks: each rank says why it cannot go on, before
     // anything is read or written (not N runs writing into one directory).
     if let Some(line) = grains_mpi::refuse(grains_mpi::launch()) {

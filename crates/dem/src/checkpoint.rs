@@ -67,7 +67,11 @@ pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
         .collect();
     put_f64(w, &loads)?;
     // The granular law's histories (empty under the linear law).
-    put_f64(w, c.history.as_flattened())?;
+    let history: Vec<f64> = (0..c.len())
+        .filter_map(|e| c.granular(e))
+        .flat_map(|h| h.into_iter())
+        .collect();
+    put_f64(w, &history)?;
     put_f64(w, c.wall_history.as_flattened())
 }
 
@@ -268,7 +272,13 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
             .map(|h| h.try_into().expect("a whole history"))
             .collect()
     };
-    c.history = rows(history);
+    let history = rows(history);
+    c.history = match history.is_empty() {
+        true => Default::default(),
+        false => crate::history::Histories::from_entries(&c.owner, n.div_ceil(crate::CHUNK), |e| {
+            Some(history[e])
+        }),
+    };
     c.wall_history = rows(wall_history);
     let wall_loads = loads
         .chunks_exact(stride)

@@ -123,11 +123,11 @@ fn measure_here(setup: &Setup, s: &State) -> Diagnostics {
                     let overlap = p.radius[i] + p.radius[j] - dist;
                     if overlap > 0.0 {
                         let mj = p.material[j] as usize;
-                        d.elastic += match (&setup.granular, list.history.get(e)) {
+                        d.elastic += match (&setup.granular, list.granular(e)) {
                             (Some(t), Some(h)) => {
                                 let (ri, rj) = (p.radius[i], p.radius[j]);
                                 let r_eff = ri * rj / (ri + rj);
-                                crate::granular::stored_energy(t.get(mi, mj), overlap, r_eff, h)
+                                crate::granular::stored_energy(t.get(mi, mj), overlap, r_eff, &h)
                             }
                             _ => {
                                 let pp = setup.pairs.get(mi, mj);
@@ -336,7 +336,8 @@ pub fn state_hash_on<R: Reduce + ?Sized>(
     }
     // The granular law's histories, as seen from the lower id (none under the linear law).
     let mut granular = Vec::new();
-    for (e, g) in list.history.iter().enumerate() {
+    for e in (0..list.len()).filter(|_| list.history.kept(list.len())) {
+        let g = &list.history.get(e, list.owner[e]);
         let (i, j) = (list.owner[e] as usize, list.nbr[e] as usize);
         if g.iter().any(|&x| x != 0.0) && counts(i, j) {
             let (a, b) = (p.id[i], p.id[j]);

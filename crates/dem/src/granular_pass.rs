@@ -10,9 +10,10 @@
 
 use crate::contact::PairTable;
 use crate::domain::Image;
-use crate::granular::{respond, Contact, Damping, GranularParams, Normal, Tangential, WIDTH};
+use crate::granular::{respond, Contact, Damping, GranularParams, Normal, Tangential};
+use crate::history::Pool;
 use crate::math::{self, AngVector, Components, Tangent, TangentOps, Vector, ANG, DIM, TAN};
-use crate::neighbours::{ContactList, GranularHistory};
+use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::CHUNK;
@@ -21,7 +22,9 @@ use rayon::prelude::*;
 /// The slices one task owns.
 struct Chunk<'a> {
     range: std::ops::Range<usize>,
-    history: &'a mut [GranularHistory],
+    /// The entries' slots in `pool`.
+    slot: &'a mut [u32],
+    pool: &'a mut Pool,
     fpair: &'a mut [Vector],
     ftan: &'a mut [AngVector],
     force: &'a mut [Vector],
@@ -54,11 +57,12 @@ fn run<const P: u8>(
     let one = table.len() == 1 || p.material.iter().all(|&m| m as usize == m0);
     let uniform = (one && m0 < table.len()).then(|| *table.get(m0, m0));
     let n = p.len();
-    list.history.resize(list.nbr.len(), [0.0; WIDTH]);
+    list.history.fit(list.nbr.len(), n.div_ceil(CHUNK));
     let row = &list.row;
     let mut jobs = Vec::with_capacity(n.div_ceil(CHUNK));
-    let (mut history, mut fpair, mut ftan) = (
-        &mut list.history[..],
+    let mut pools = list.history.pools.iter_mut();
+    let (mut slot, mut fpair, mut ftan) = (
+        &mut list.history.slot[..],
         &mut list.fpair[..],
         &mut list.ftan[..],
     );
@@ -75,18 +79,19 @@ fn run<const P: u8>(
     for c in 0..n.div_ceil(CHUNK) {
         let range = c * CHUNK..((c + 1) * CHUNK).min(n);
         let len = (row[range.end] - row[range.start]) as usize;
-        let (h, h_rest) = history.split_at_mut(len);
+        let (h, h_rest) = slot.split_at_mut(len);
         let (f, f_rest) = fpair.split_at_mut(len);
         let (t, t_rest) = ftan.split_at_mut(len);
         jobs.push(Chunk {
             range,
-            history: h,
+            slot: h,
+            pool: pools.next().expect("a pool per chunk"),
             fpair: f,
             ftan: t,
             force: force.next().unwrap_or_default(),
             torque: torque.next().unwrap_or_default(),
         });
-        (history, fpair, ftan) = (h_rest, f_rest, t_rest);
+        (slot, fpair, ftan) = (h_rest, f_rest, t_rest);
     }
     let ctx = Ctx {
         image,
@@ -138,7 +143,7 @@ impl<const P: u8> Ctx<'_, P> {
         let dt = self.dt;
         c.force.fill(Vector::ZERO);
         c.torque.fill(AngVector::default());
-        for k in 0..c.history.len() {
+        for k in 0..c.slot.len() {
             let (i, j) = (self.owner[base + k] as usize, self.nbr[base + k] as usize);
             if j >= end {
                 c.fpair[k] = Vector::ZERO;
@@ -149,7 +154,7 @@ impl<const P: u8> Ctx<'_, P> {
             let rsum = ri + rj;
             let dist2 = d.length_squared();
             if !(dist2 < rsum * rsum && dist2 > 0.0) {
-                clear(&mut c.history[k]);
+                c.pool.release(&mut c.slot[k]);
                 continue;
             }
             let dist = dist2.sqrt();
@@ -168,7 +173,7 @@ impl<const P: u8> Ctx<'_, P> {
                     .table
                     .get(self.material[i] as usize, self.material[j] as usize),
             };
-            let r = respond(law, &contact, &mut c.history[k], dt, dt > 0.0);
+            let r = respond(law, &contact, c.pool.take(&mut c.slot[k]), dt, dt > 0.0);
             let half = 0.5 * contact.overlap;
             c.force[i - first] += r.force;
             c.torque[i - first] += (ri - half) * r.moment + r.couple;
@@ -193,7 +198,7 @@ impl<const P: u8> Ctx<'_, P> {
         c.torque.fill(AngVector::default());
         let mut b = Block::new();
         let mut len = 0usize;
-        for k in 0..c.history.len() {
+        for k in 0..c.slot.len() {
             let (i, j) = (self.owner[base + k] as usize, self.nbr[base + k] as usize);
             if j >= end {
                 c.fpair[k] = Vector::ZERO;
@@ -203,9 +208,10 @@ impl<const P: u8> Ctx<'_, P> {
             let rsum = self.radius[i] + self.radius[j];
             let dist2 = d.length_squared();
             if !(dist2 < rsum * rsum && dist2 > 0.0) {
-                clear(&mut c.history[k]);
+                c.pool.release(&mut c.slot[k]);
                 continue;
             }
+            c.pool.take(&mut c.slot[k]);
             let t = len & (BLOCK - 1);
             b.entry[t] = k as u32;
             b.i[t] = i as u32;
@@ -233,7 +239,7 @@ impl<const P: u8> Ctx<'_, P> {
             b.ri[t] = ri;
             b.rj[t] = rj;
             b.inv_msum[t] = self.inv_mass[i] + self.inv_mass[j];
-            Tangent::from_slice(&c.history[k][..TAN]).write(&mut b.xi, t);
+            Tangent::from_slice(&c.pool.at(c.slot[k])[..TAN]).write(&mut b.xi, t);
         }
         // The deck's law (Hertz, Tsuji, Mindlin) and the step's update are fixed at
         // compile time: the loop then has no branch left and vectorises.
@@ -253,8 +259,9 @@ impl<const P: u8> Ctx<'_, P> {
             let f = Vector::read(&b.f, t);
             let tj = AngVector::read(&b.tj, t);
             let xi = Tangent::read(&b.xi, t);
+            let h = c.pool.at_mut(c.slot[k]);
             for a in 0..TAN {
-                c.history[k][a] = xi.get(a);
+                h[a] = xi.get(a);
             }
             c.force[i - first] += f;
             c.torque[i - first] += AngVector::read(&b.ti, t);
@@ -319,15 +326,6 @@ fn carry(xi: Tangent, n: Vector, stiffness: f64, limit: f64) -> Tangent {
 #[inline(always)]
 fn carry(xi: Tangent, n: Vector, stiffness: f64, limit: f64) -> Tangent {
     math::carry_keeping_length(xi, n, stiffness, limit)
-}
-
-/// Clears a history that holds something. Most entries stay apart, so their memory is
-/// read but not written back.
-#[inline(always)]
-fn clear(h: &mut [f64; WIDTH]) {
-    if h.iter().any(|x| x.to_bits() != 0) {
-        *h = [0.0; WIDTH];
-    }
 }
 
 /// Touching pairs per block.
@@ -596,7 +594,7 @@ mod tests {
             crate::step(&s1, &mut a, 5e-4);
             crate::step(&s2, &mut b, 5e-4);
         }
-        assert!(a.contacts.history.iter().any(|h| h[0] != 0.0));
+        assert!((0..a.contacts.len()).any(|e| a.contacts.granular(e).unwrap()[0] != 0.0));
         assert_eq!(
             crate::diagnostics::state_hash(&a),
             crate::diagnostics::state_hash(&b)

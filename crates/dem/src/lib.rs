@@ -27,6 +27,7 @@ pub mod domain;
 pub mod forces;
 pub mod granular;
 pub mod granular_pass;
+pub mod history;
 pub mod integrate;
 pub mod ledger;
 pub mod material;

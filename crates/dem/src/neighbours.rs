@@ -14,8 +14,8 @@ use crate::setup::Setup;
 use crate::verlet::{frame_centre, Comoving};
 use crate::CHUNK;
 
-/// One contact's history under the granular law.
-pub type GranularHistory = [f64; crate::granular::WIDTH];
+pub use crate::history::GranularHistory;
+use crate::history::Histories;
 use rayon::prelude::*;
 
 /// Half neighbour list (each pair once, owned by the lower index) with per-entry
@@ -50,9 +50,9 @@ pub struct ContactList {
     pub wall_shear: Vec<Tangent>,
     /// Number of walls (stride of `wall_shear`).
     pub n_walls: usize,
-    /// With the granular law ([`crate::granular`]): each entry's contact history, in
-    /// place of `shear` (empty with the linear law).
-    pub history: Vec<GranularHistory>,
+    /// With the granular law ([`crate::granular`]): the contact history of each
+    /// touching entry, in place of `shear` (empty with the linear law).
+    pub history: Histories,
     /// With the granular law: each particle–wall pair's history, `[i * n_walls + w]`.
     pub wall_history: Vec<GranularHistory>,
     /// Positions at the last rebuild, for the skin criterion.
@@ -181,6 +181,14 @@ impl ContactList {
         self.nbr.is_empty()
     }
 
+    /// The granular law's history of entry `e` (zero where the pair does not touch), or
+    /// `None` when the list keeps none (the linear law).
+    pub fn granular(&self, e: usize) -> Option<GranularHistory> {
+        self.history
+            .kept(self.nbr.len())
+            .then(|| self.history.get(e, self.owner[e]))
+    }
+
     /// Re-sorts the particles by cell, rebuilds the list and carries the tangential
     /// history of touching pairs (and walls) over to the new order. The cell grid spans
     /// the domain.
@@ -202,6 +210,15 @@ impl ContactList {
         let old = self.history_by_id(particles);
         let granular = setup.granular.is_some();
         let old_granular = granular.then(|| self.granular_by_id(particles));
+        // The old list is carried by `old` and `old_granular` now: freed before the new
+        // one is built, the peak memory holds one list, not two.
+        self.nbr = Vec::new();
+        self.shear = Vec::new();
+        self.owner = Vec::new();
+        self.fpair = Vec::new();
+        self.ftan = Vec::new();
+        self.rev_entry = Vec::new();
+        self.history = Histories::default();
         if self.wall_shear.len() != n * nw {
             self.wall_shear = vec![Tangent::default(); n * nw];
         }
@@ -244,10 +261,12 @@ impl ContactList {
                 build_rows(setup, &grid, &cell_start, particles, range, &old, &perm)
             })
             .collect();
+        let m: usize = parts.iter().map(|part| part.1.len()).sum();
         self.row.clear();
+        self.row.reserve_exact(n + 1);
         self.row.push(0);
-        self.nbr.clear();
-        self.shear.clear();
+        self.nbr.reserve_exact(m);
+        self.shear.reserve_exact(m);
         for (lens, nbr, shear) in parts {
             for l in lens {
                 let last = *self.row.last().unwrap();
@@ -256,29 +275,27 @@ impl ContactList {
             self.nbr.extend_from_slice(&nbr);
             self.shear.extend_from_slice(&shear);
         }
-        let m = self.nbr.len();
         self.fpair.clear();
         self.fpair.resize(m, Vector::ZERO);
         self.ftan.clear();
         self.ftan.resize(m, AngVector::default());
         self.build_reverse(n);
         self.history = match old_granular {
-            Some(old) => self
-                .owner
-                .iter()
-                .zip(&self.nbr)
-                .map(|(&i, &j)| {
-                    let (a, b) = (particles.id[i as usize], particles.id[j as usize]);
-                    let h = old.get(&(a.min(b), a.max(b))).copied();
-                    let h = h.unwrap_or([0.0; crate::granular::WIDTH]);
-                    if a > b {
-                        crate::granular::swapped(&h)
-                    } else {
-                        h
-                    }
+            Some(old) => Histories::from_entries(&self.owner, n.div_ceil(CHUNK), |e| {
+                let (i, j) = (self.owner[e] as usize, self.nbr[e] as usize);
+                let (a, b) = (particles.id[i], particles.id[j]);
+                // Filed under the lower id's index before the re-sort.
+                let h = match a < b {
+                    true => old.get(perm[i], b)?,
+                    false => old.get(perm[j], a)?,
+                };
+                Some(if a > b {
+                    crate::granular::swapped(h)
+                } else {
+                    *h
                 })
-                .collect(),
-            None => Vec::new(),
+            }),
+            None => Histories::default(),
         };
         self.find_walls(setup, particles);
         if granular {
@@ -298,77 +315,56 @@ impl ContactList {
         self.builds += 1;
     }
 
-    /// The granular law's history of each contact, by its pair of ids (lower first) and
-    /// as seen from the lower id.
-    fn granular_by_id(
-        &self,
-        particles: &Particles,
-    ) -> std::collections::HashMap<(u32, u32), GranularHistory> {
-        let mut out = std::collections::HashMap::new();
-        if self.history.len() != self.nbr.len() || self.owner.len() != self.nbr.len() {
-            return out;
-        }
-        for ((&i, &j), h) in self.owner.iter().zip(&self.nbr).zip(&self.history) {
-            if h.iter().all(|&x| x == 0.0) {
-                continue;
+    /// The granular law's history of each contact, as seen from its lower id, filed
+    /// under that particle's current index and looked up by the other's id (each
+    /// contact once: half the memory of filing it under both, and no hash table).
+    fn granular_by_id(&self, particles: &Particles) -> ById<GranularHistory> {
+        let n = particles.len();
+        let kept = self.history.kept(self.nbr.len()) && self.owner.len() == self.nbr.len();
+        let id = &particles.id;
+        ById::collect(n, |put| {
+            if !kept {
+                return;
             }
-            let (a, b) = (particles.id[i as usize], particles.id[j as usize]);
-            let h = if a > b {
-                crate::granular::swapped(h)
-            } else {
-                *h
-            };
-            out.insert((a.min(b), a.max(b)), h);
-        }
-        out
+            for (e, (&i, &j)) in self.owner.iter().zip(&self.nbr).enumerate() {
+                if self.history.slot[e] == crate::history::NONE {
+                    continue;
+                }
+                let h = self.history.get(e, i);
+                if h.iter().all(|&x| x == 0.0) {
+                    continue;
+                }
+                let (i, j) = (i as usize, j as usize);
+                if id[i] < id[j] {
+                    put(i, id[j], h);
+                } else {
+                    put(j, id[i], crate::granular::swapped(&h));
+                }
+            }
+        })
     }
 
     /// Each particle's touching pairs as (partner id, ξ as seen from the particle), by
     /// the particle's current index: the history travels with the particle, whatever
     /// its index or rank after the rebuild, and ids need not be 0..N.
-    fn history_by_id(&self, particles: &Particles) -> History {
+    fn history_by_id(&self, particles: &Particles) -> ById<Tangent> {
         let n = particles.len();
-        let mut h = History {
-            start: vec![0; n + 2],
-            partner: Vec::new(),
-            shear: Vec::new(),
-        };
-        if self.row.len() != n + 1 {
-            return h;
-        }
-        // A counting sort by particle: two passes over the list, no comparison sort.
-        let live = |e: usize| self.shear[e] != Tangent::default();
-        for i in 0..n {
-            for e in self.row[i] as usize..self.row[i + 1] as usize {
-                if live(e) {
-                    h.start[i + 2] += 1;
-                    h.start[self.nbr[e] as usize + 2] += 1;
-                }
+        let kept = self.row.len() == n + 1;
+        ById::collect(n, |put| {
+            if !kept {
+                return;
             }
-        }
-        for k in 2..n + 2 {
-            h.start[k] += h.start[k - 1];
-        }
-        let total = h.start[n + 1] as usize;
-        h.partner = vec![0; total];
-        h.shear = vec![Tangent::default(); total];
-        for i in 0..n {
-            for e in self.row[i] as usize..self.row[i + 1] as usize {
-                if live(e) {
-                    let j = self.nbr[e] as usize;
-                    for (at, other, xi) in [
-                        (i, j, self.shear[e]),
-                        (j, i, crate::math::swapped(self.shear[e])),
-                    ] {
-                        let k = h.start[at + 1] as usize;
-                        h.partner[k] = particles.id[other];
-                        h.shear[k] = xi;
-                        h.start[at + 1] += 1;
+            for i in 0..n {
+                for e in self.row[i] as usize..self.row[i + 1] as usize {
+                    let xi = self.shear[e];
+                    if xi != Tangent::default() {
+                        let j = self.nbr[e] as usize;
+                        put(i, particles.id[j], xi);
+                        put(j, particles.id[i], crate::math::swapped(xi));
                     }
                 }
             }
-        }
-        h
+        })
     }
 
     /// Indexes, by partner, the entries whose partner lies in another chunk than the
@@ -463,28 +459,50 @@ fn sort_by_cell(grid: &CellGrid, particles: &Particles) -> (Vec<u32>, Vec<u32>) 
     (perm, start)
 }
 
-/// Tangential springs of the touching pairs before a rebuild, by particle (its index
-/// before the rebuild's re-sort): the pairs of particle `i` are `start[i]..start[i + 1]`,
-/// each as (partner id, ξ as seen from `i`), so a lookup reads a row of a few entries
-/// and the ids themselves may be anything (global ids of a distributed run).
-struct History {
+/// Per-pair records before a rebuild, filed by particle (its index before the rebuild's
+/// re-sort): the records of particle `i` are `start[i]..start[i + 1]`, each as (partner
+/// id, value), so a lookup reads a row of a few entries and the ids themselves may be
+/// anything (global ids of a distributed run).
+struct ById<T> {
     start: Vec<u32>,
     partner: Vec<u32>,
-    shear: Vec<Tangent>,
+    value: Vec<T>,
 }
 
-impl History {
-    /// The spring of particle `i` (index before the re-sort) with the particle of id
-    /// `partner`, as seen from `i`; 0 if the two were not touching.
+impl<T: Copy + Default> ById<T> {
+    /// The records `each` puts as (particle index, partner id, value), filed by a
+    /// counting sort: `each` runs twice, once to count and once to file, so nothing is
+    /// sorted by comparison and nothing is kept twice.
+    fn collect(n: usize, each: impl Fn(&mut dyn FnMut(usize, u32, T))) -> Self {
+        let mut start = vec![0u32; n + 2];
+        each(&mut |i, _, _| start[i + 2] += 1);
+        for k in 2..n + 2 {
+            start[k] += start[k - 1];
+        }
+        let total = start[n + 1] as usize;
+        let (mut partner, mut value) = (vec![0; total], vec![T::default(); total]);
+        each(&mut |i, id, v| {
+            let k = start[i + 1] as usize;
+            partner[k] = id;
+            value[k] = v;
+            start[i + 1] += 1;
+        });
+        ById {
+            start,
+            partner,
+            value,
+        }
+    }
+
+    /// The record of particle `i` (index before the re-sort) with the particle of id
+    /// `partner`, if there is one.
     #[inline]
-    fn get(&self, i: u32, partner: u32) -> Tangent {
+    fn get(&self, i: u32, partner: u32) -> Option<&T> {
         let i = i as usize;
-        let (Some(&from), Some(&to)) = (self.start.get(i), self.start.get(i + 1)) else {
-            return Tangent::default();
-        };
+        let (&from, &to) = (self.start.get(i)?, self.start.get(i + 1)?);
         (from as usize..to as usize)
             .find(|&k| self.partner[k] == partner)
-            .map_or(Tangent::default(), |k| self.shear[k])
+            .map(|k| &self.value[k])
     }
 }
 
@@ -495,7 +513,7 @@ fn build_rows(
     cell_start: &[u32],
     p: &Particles,
     range: std::ops::Range<usize>,
-    old: &History,
+    old: &ById<Tangent>,
     perm: &[u32],
 ) -> (Vec<u32>, Vec<u32>, Vec<Tangent>) {
     let mut lens = Vec::with_capacity(range.len());
@@ -533,7 +551,7 @@ fn build_rows(
                 let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
                 if d.length_squared() < cut * cut {
                     nbr.push(j as u32);
-                    shear.push(old.get(perm[i], p.id[j]));
+                    shear.push(old.get(perm[i], p.id[j]).copied().unwrap_or_default());
                 }
             }
         }

@@ -53,7 +53,7 @@ pub fn particle_stress(setup: &Setup, s: &State) -> Vec<Tensor> {
                 let (mi, mj) = (p.material[i] as usize, p.material[j] as usize);
                 let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
                 let spin = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
-                let f = match (&setup.granular, list.history.get(e)) {
+                let f = match (&setup.granular, list.granular(e)) {
                     (Some(t), Some(h)) => granular_force(
                         t.get(mi, mj),
                         &Contact {
@@ -65,7 +65,7 @@ pub fn particle_stress(setup: &Setup, s: &State) -> Vec<Tensor> {
                             spin,
                             w_rel: p.omega[i] - p.omega[j],
                         },
-                        h,
+                        &h,
                     ),
                     _ => force(
                         setup.pairs.get(mi, mj),
