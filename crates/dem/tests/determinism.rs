@@ -37,6 +37,7 @@ fn bed(n: usize) -> (Setup, Particles) {
             b: [1e9, 0.0],
         },
         material: None,
+        motion: Default::default(),
     };
     let setup = Setup::new(
         domain,

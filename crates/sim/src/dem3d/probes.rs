@@ -9,12 +9,14 @@
 //! Sliding throughout an impact on a wall: v_t' = v_t − μ(1 + e) v_n and
 //! ω' R = μ (1 + e) v_n / K (K = I / m R², e measured).
 
+use super::drum::DrumWatch;
 use super::scenario::{CheckSpec, Measure};
 use super::Dem3;
-use crate::driver::{Observer, Report, Status};
+use crate::driver::{Flow, Observer, Report, Status};
 use glam::DVec3;
 use grains_core::checks::Check;
 use grains_dem3d::diagnostics::index_of;
+use grains_dem3d::diagnostics::Diagnostics;
 use grains_dem3d::{PairTable, Setup, State};
 
 /// t_c v / δ_max of an undamped Hertz impact: 2 ∫₀¹ (1 − x^{5/2})^{−1/2} dx.
@@ -77,6 +79,7 @@ enum Partner {
 pub struct Probes {
     specs: Vec<CheckSpec>,
     impacts: Vec<Option<(u32, Partner, Impact)>>,
+    drums: Vec<Option<DrumWatch>>,
     restitution: PairTable<Option<f64>>,
 }
 
@@ -123,12 +126,24 @@ impl Probes {
                     };
                     Some((*particle, to, impact))
                 }
-                CheckSpec::WallForceOverWeight { .. } => None,
+                _ => None,
+            })
+            .collect();
+        let wall = |name: &str| sim.setup.walls.iter().position(|w| w.name == name);
+        let drums = specs
+            .iter()
+            .map(|c| match c {
+                CheckSpec::ReposeAngle { wall: w, after, .. }
+                | CheckSpec::DrumTorque { wall: w, after, .. } => {
+                    Some(DrumWatch::new(wall(w)?, *after))
+                }
+                _ => None,
             })
             .collect();
         Probes {
             specs: specs.to_vec(),
             impacts,
+            drums,
             restitution,
         }
     }
@@ -185,11 +200,18 @@ impl Observer<Dem3> for Probes {
         }
     }
 
+    fn on_sample(&mut self, sim: &Dem3, _d: &Diagnostics) -> anyhow::Result<Flow> {
+        for d in self.drums.iter_mut().flatten() {
+            d.sample(sim);
+        }
+        Ok(Flow::Continue)
+    }
+
     fn on_end(&mut self, sim: &Dem3, _status: &Status, report: &mut Report) -> anyhow::Result<()> {
         let (setup, s) = (&sim.setup, &sim.state);
         let p = &s.particles;
-        for (spec, slot) in self.specs.iter().zip(&self.impacts) {
-            let (name, tol) = (spec.name(), spec.tolerance());
+        for (k, (spec, slot)) in self.specs.iter().zip(&self.impacts).enumerate() {
+            let (name, tol) = (spec.name(), spec.tolerance().unwrap_or(0.0));
             let check = match (spec, slot) {
                 (CheckSpec::Collision { measure, .. }, Some((id, partner, m))) => {
                     let i = index_of(p, *id).expect("ids stay");
@@ -251,6 +273,29 @@ impl Observer<Dem3> for Probes {
                 }
                 (CheckSpec::WallForceOverWeight { wall, .. }, _) => {
                     Check::relative(name, load_over_weight(sim, wall), 1.0, tol)
+                }
+                (
+                    CheckSpec::FinalVelocity {
+                        particle,
+                        direction,
+                        expected,
+                        ..
+                    },
+                    _,
+                ) => {
+                    let i = index_of(p, *particle).expect("ids stay");
+                    let u = DVec3::from(*direction).normalize();
+                    Check::relative(name, p.vel[i].dot(u), *expected, tol)
+                }
+                (CheckSpec::ReposeAngle { lo, hi, .. }, _) => {
+                    let a = self.drums[k].as_ref().map_or(f64::NAN, |d| d.angle());
+                    Check::absolute(name, a, 0.5 * (lo + hi), 0.5 * (hi - lo))
+                }
+                (CheckSpec::DrumTorque { .. }, _) => {
+                    let r = self.drums[k]
+                        .as_ref()
+                        .map_or(f64::NAN, |d| d.torque_over_moment());
+                    Check::relative(name, r, 1.0, tol)
                 }
                 (CheckSpec::Collision { .. }, None) => Check::relative(name, f64::NAN, 1.0, tol)
                     .with_note("the particle has no partner"),
