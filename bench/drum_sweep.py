@@ -8,12 +8,12 @@ Then `cargo run -p grains-sim --example drum_repose -- OUT.csv` draws OUT.png.
 usage: python3 bench/drum_sweep.py GRAINS_BINARY OUT.csv [WORK_DIR]
 No dependencies beyond the standard library; each run takes about 10 s on 2 cores.
 """
-import json
 import os
 import re
-import subprocess
 import sys
 import tempfile
+
+from sweep_run import run
 
 # mu at the example's mu_r, then mu_r at the example's mu.
 SWEEP = [(0.1, 0.05), (0.3, 0.05), (0.5, 0.05), (0.8, 0.05),
@@ -28,15 +28,7 @@ for mu, mu_r in SWEEP:
     text = re.sub(r'(?m)^friction = .*$', f'friction = {mu}', base)
     text = re.sub(r'(?m)^mu_r = .*$', f'mu_r = {mu_r}', text)
     name = f'drum_mu{mu}_mur{mu_r}'
-    toml = os.path.join(work, name + '.toml')
-    open(toml, 'w').write(text)
-    run = os.path.join(work, name)
-    # Exit 2 (a check outside its band) still leaves the figures to read.
-    code = subprocess.run([grains, 'run', toml, '--out', run],
-                          stdout=subprocess.DEVNULL).returncode
-    if code not in (0, 2):
-        sys.exit(f'{name}: grains exited {code}')
-    checks = {c['name']: c['measured'] for c in json.load(open(os.path.join(run, 'summary.json')))['checks']}
+    checks = {c['name']: c['measured'] for c in run(grains, text, work, name)['checks']}
     rows.append((mu, mu_r, checks['dynamic_angle_of_repose'], checks['drum_torque_over_weight_moment']))
     print(f'mu {mu:4}  mu_r {mu_r:4}  angle {rows[-1][2]:6.2f} deg  torque/moment {rows[-1][3]:.4f}')
 with open(out, 'w') as f:

@@ -91,6 +91,14 @@ fn drum_small() {
     assert!(header.contains("drum_torque_axis"), "{header}");
 }
 
+/// The recycling silo drains through its floor's hole at a rate within Beverloo's
+/// spread.
+#[test]
+fn silo_small() {
+    let (s, _) = run_dem3d_example("silo_small", 1);
+    assert!(s["figures"]["mass_flow_rate_rate_kg_s"].as_f64().unwrap() > 0.0);
+}
+
 #[test]
 fn check_reports_a_3d_scenario() {
     let o = grains(&[

@@ -210,6 +210,11 @@ pub fn values(all: &mut Vec<Case>) {
             "[[check]]\nkind = \"final_velocity\"\nname = \"v\"\nparticle = 0\ndirection = [0.0, 0.0, 0.0]\nexpected = 1.0\ntolerance = 0.01\n\n[run]",
             &["check[0].direction"],
         ),
+        (
+            "[run]",
+            "[[check]]\nkind = \"beverloo\"\nname = \"w\"\nwall = \"floor\"\nafter = 0.0\npacking = 0.6\n\n[run]",
+            &["check[0].wall", "hole"],
+        ),
     ];
     for (from, to, expect) in edits {
         all.push(run_edit(DEM3, from, to, expect));

@@ -547,6 +547,37 @@ fn checks(
                     ));
                 }
             }
+            CheckSpec::Beverloo {
+                wall,
+                after,
+                packing,
+                ..
+            } => {
+                let w = wall_index(k, wall)?;
+                if !matches!(setup.walls[w].shape, grains_dem3d::WallShape::Disk { hole, .. } if hole > 0.0)
+                {
+                    return Err(InputError::new(
+                        format!("check[{k}].wall"),
+                        format!("\"{wall}\""),
+                        "must name a disk with a hole (the silo's floor)",
+                    ));
+                }
+                grains_core::input::non_negative(&format!("check[{k}].after"), *after)?;
+                if !(*packing > 0.0 && *packing < 1.0) {
+                    return Err(InputError::new(
+                        format!("check[{k}].packing"),
+                        packing,
+                        "must lie in (0, 1)",
+                    ));
+                }
+                if setup.gravity == DVec3::ZERO {
+                    return Err(InputError::new(
+                        "gravity",
+                        "[0, 0, 0]",
+                        format!("check[{k}] needs non-zero gravity"),
+                    ));
+                }
+            }
             CheckSpec::WallForceOverWeight { wall, .. } => {
                 wall_index(k, wall)?;
                 if setup.gravity == DVec3::ZERO {

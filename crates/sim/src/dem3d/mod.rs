@@ -11,6 +11,7 @@ pub mod output;
 pub mod probes;
 pub mod run;
 pub mod scenario;
+pub mod silo;
 pub mod walls;
 
 use crate::driver::{Clock, ParticleView, Simulation};

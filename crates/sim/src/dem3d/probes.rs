@@ -11,6 +11,7 @@
 
 use super::drum::DrumWatch;
 use super::scenario::{CheckSpec, Measure};
+use super::silo::{beverloo, orifice, DischargeWatch};
 use super::Dem3;
 use crate::driver::{Flow, Observer, Report, Status};
 use glam::DVec3;
@@ -80,6 +81,7 @@ pub struct Probes {
     specs: Vec<CheckSpec>,
     impacts: Vec<Option<(u32, Partner, Impact)>>,
     drums: Vec<Option<DrumWatch>>,
+    silos: Vec<Option<DischargeWatch>>,
     restitution: PairTable<Option<f64>>,
 }
 
@@ -140,10 +142,20 @@ impl Probes {
                 _ => None,
             })
             .collect();
+        let silos = specs
+            .iter()
+            .map(|c| match c {
+                CheckSpec::Beverloo { wall: w, after, .. } => {
+                    Some(DischargeWatch::new(wall(w)?, *after))
+                }
+                _ => None,
+            })
+            .collect();
         Probes {
             specs: specs.to_vec(),
             impacts,
             drums,
+            silos,
             restitution,
         }
     }
@@ -202,6 +214,9 @@ impl Observer<Dem3> for Probes {
 
     fn on_sample(&mut self, sim: &Dem3, _d: &Diagnostics) -> anyhow::Result<Flow> {
         for d in self.drums.iter_mut().flatten() {
+            d.sample(sim);
+        }
+        for d in self.silos.iter_mut().flatten() {
             d.sample(sim);
         }
         Ok(Flow::Continue)
@@ -290,6 +305,43 @@ impl Observer<Dem3> for Probes {
                 (CheckSpec::ReposeAngle { lo, hi, .. }, _) => {
                     let a = self.drums[k].as_ref().map_or(f64::NAN, |d| d.angle());
                     Check::absolute(name, a, 0.5 * (lo + hi), 0.5 * (hi - lo))
+                }
+                (CheckSpec::Beverloo { wall, packing, .. }, _) => {
+                    let w = self.silos[k].as_ref();
+                    let rate = w.map_or(f64::NAN, |w| w.rate());
+                    let hole = setup.walls.iter().position(|x| &x.name == wall);
+                    let d_hole = hole.and_then(|h| orifice(sim, h)).map_or(f64::NAN, |o| o.2);
+                    let n = p.len().max(1) as f64;
+                    let d = 2.0 * p.radius.iter().sum::<f64>() / n;
+                    let volume: f64 = p
+                        .radius
+                        .iter()
+                        .map(|&r| grains_dem3d::math::measure(r))
+                        .sum();
+                    let mass: f64 = (0..p.len()).map(|i| p.mass(i)).sum();
+                    let rho_b = packing * mass / volume;
+                    let g = setup.gravity.length();
+                    let (lo, hi) = (
+                        beverloo(0.55, 2.9, rho_b, g, d_hole, d),
+                        beverloo(0.65, 1.3, rho_b, g, d_hole, d),
+                    );
+                    let c_fit = rate / beverloo(1.0, 1.5, rho_b, g, d_hole, d);
+                    report
+                        .figures
+                        .insert(format!("{name}_rate_kg_s"), rate.into());
+                    report
+                        .figures
+                        .insert(format!("{name}_orifice_m"), d_hole.into());
+                    report
+                        .figures
+                        .insert(format!("{name}_mean_diameter_m"), d.into());
+                    report
+                        .figures
+                        .insert(format!("{name}_bulk_density"), rho_b.into());
+                    report
+                        .figures
+                        .insert(format!("{name}_c_at_k1.5"), c_fit.into());
+                    Check::absolute(name, rate, 0.5 * (lo + hi), 0.5 * (hi - lo))
                 }
                 (CheckSpec::DrumTorque { .. }, _) => {
                     let r = self.drums[k]

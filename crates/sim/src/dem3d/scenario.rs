@@ -437,6 +437,20 @@ pub enum CheckSpec {
         /// Highest angle allowed (degrees).
         hi: f64,
     },
+    /// The steady discharge rate W through the hole of the floor `wall` (a disk):
+    /// the slope of the mass below the floor against time from `after` on, within
+    /// Beverloo's W = C ρ_b √g (D − k d)^{5/2} over the literature's spread, C 0.55–0.65
+    /// and k 1.3–2.9, with ρ_b = `packing` × the grains' density.
+    Beverloo {
+        /// Check name.
+        name: String,
+        /// The floor's wall name.
+        wall: String,
+        /// Start of the steady window (s).
+        after: f64,
+        /// Solid fraction of the flowing bed, for its bulk density.
+        packing: f64,
+    },
     /// The mean torque of the grains on the drum `wall` about its axis over the mean
     /// moment of their weight about it, from `after` on (expected 1).
     DrumTorque {
@@ -459,6 +473,7 @@ impl CheckSpec {
             | CheckSpec::WallForceOverWeight { name, .. }
             | CheckSpec::FinalVelocity { name, .. }
             | CheckSpec::ReposeAngle { name, .. }
+            | CheckSpec::Beverloo { name, .. }
             | CheckSpec::DrumTorque { name, .. } => name,
         }
     }
@@ -470,7 +485,7 @@ impl CheckSpec {
             | CheckSpec::WallForceOverWeight { tolerance, .. }
             | CheckSpec::FinalVelocity { tolerance, .. }
             | CheckSpec::DrumTorque { tolerance, .. } => Some(*tolerance),
-            CheckSpec::ReposeAngle { .. } => None,
+            CheckSpec::ReposeAngle { .. } | CheckSpec::Beverloo { .. } => None,
         }
     }
 }
