@@ -5,7 +5,8 @@
 mod common;
 use common::*;
 
-fn run_dem3d_example(name: &str, checks: usize) -> serde_json::Value {
+/// Runs `examples/dem3d/NAME.toml`: its summary and its history's header.
+fn run_dem3d_example(name: &str, checks: usize) -> (serde_json::Value, String) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let o = grains(&[
@@ -40,7 +41,8 @@ fn run_dem3d_example(name: &str, checks: usize) -> serde_json::Value {
         frame.contains("Name=\"stress\" NumberOfComponents=\"9\""),
         "{name}"
     );
-    s
+    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    (s, history.lines().next().unwrap_or("").to_string())
 }
 
 #[test]
@@ -70,8 +72,31 @@ fn chung_ooi_test5() {
 
 #[test]
 fn settling_column() {
-    let s = run_dem3d_example("settling_column", 1);
+    let (s, _) = run_dem3d_example("settling_column", 1);
     assert_eq!(s["status"], "at_rest");
+}
+
+/// A sphere on a translating rectangle (the belt's surface velocity in the contact)
+/// ends rolling at 2/7 of the belt's speed.
+#[test]
+fn belt() {
+    run_dem3d_example("belt", 1);
+}
+
+/// The turning drum: its surface angle in range, its torque about the axis recorded
+/// and balancing the weight's moment.
+#[test]
+fn drum_small() {
+    let (_, header) = run_dem3d_example("drum_small", 2);
+    assert!(header.contains("drum_torque_axis"), "{header}");
+}
+
+/// The recycling silo drains through its floor's hole at a rate within Beverloo's
+/// spread.
+#[test]
+fn silo_small() {
+    let (s, _) = run_dem3d_example("silo_small", 1);
+    assert!(s["figures"]["mass_flow_rate_rate_kg_s"].as_f64().unwrap() > 0.0);
 }
 
 #[test]

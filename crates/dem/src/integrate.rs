@@ -271,6 +271,8 @@ pub fn walls_gather_kick(
                         continue;
                     }
                     let m = 1.0 / inv_mass[i];
+                    let at = pos[i] + touch.normal * touch.distance;
+                    let v = vel[k] - setup.walls[w].surface_velocity(at);
                     let (fw, tw) = match granular {
                         // A wall is a body of infinite mass and radius that does not turn.
                         Some(table) => {
@@ -281,7 +283,7 @@ pub fn walls_gather_kick(
                                 overlap: r - touch.distance,
                                 r_eff: r,
                                 m_eff: m,
-                                v: vel[k],
+                                v,
                                 spin: r * omega[k],
                                 w_rel: omega[k],
                             };
@@ -303,7 +305,7 @@ pub fn walls_gather_kick(
                                 m,
                                 touch.normal,
                                 r - touch.distance,
-                                vel[k],
+                                v,
                                 r * omega[k],
                                 shear,
                                 dt_shear,
@@ -315,7 +317,6 @@ pub fn walls_gather_kick(
                     };
                     f += fw;
                     tq += tw;
-                    let at = pos[i] + touch.normal * touch.distance;
                     let arm = at - setup.walls[w].shape.reference();
                     loads[w].force -= fw;
                     loads[w].torque -= math::cross(arm, fw);

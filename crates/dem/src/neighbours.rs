@@ -423,7 +423,8 @@ impl ContactList {
                     let p = particles.pos[i];
                     let r = particles.radius[i];
                     for (w, wall) in setup.walls.iter().enumerate() {
-                        let close = wall.shape.nearest(p).is_none_or(|t| t.distance < r + skin);
+                        let close = wall.translates()
+                            || wall.shape.nearest(p).is_none_or(|t| t.distance < r + skin);
                         if close {
                             *mask |= 1 << w;
                         } else {

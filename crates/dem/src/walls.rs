@@ -1,9 +1,23 @@
 //! Rigid walls. A wall acts on a particle through the same contact law as a particle,
 //! with infinite mass and no rotation. Their shapes depend on the dimension
-//! ([`crate::math`]: segments and circles in 2D; planes, spheres and cylinders in 3D).
+//! ([`crate::math`]: segments and circles in 2D; planes, bounded plates, spheres and
+//! cylinders in 3D). A wall may move ([`Motion`]): its surface velocity enters each
+//! contact's relative velocity, so a turning drum drags the grains by friction.
 
-use crate::math::Vector;
 pub use crate::math::WallShape;
+use crate::math::{AngVector, Vector};
+
+/// How a wall moves: its surface at `x` moves at `velocity + omega × (x − reference)`
+/// (about [`WallShape::reference`]). A translating wall is carried along by
+/// [`Wall::advance`]; a turning one keeps its shape, as its spin is about its own axis
+/// (the scenario refuses any other).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Motion {
+    /// Velocity of translation (m/s).
+    pub velocity: Vector,
+    /// Angular velocity about the reference point (rad/s).
+    pub omega: AngVector,
+}
 
 /// A wall with its contact material (None: the touching particle's own material).
 #[derive(Clone, Debug, PartialEq)]
@@ -14,6 +28,40 @@ pub struct Wall {
     pub shape: WallShape,
     /// Material index, or None to use the particle's material.
     pub material: Option<u16>,
+    /// Prescribed motion (default: at rest).
+    pub motion: Motion,
+}
+
+impl Wall {
+    /// A wall at rest.
+    pub fn fixed(name: impl Into<String>, shape: WallShape, material: Option<u16>) -> Self {
+        Wall {
+            name: name.into(),
+            shape,
+            material,
+            motion: Motion::default(),
+        }
+    }
+
+    /// Velocity of the wall's surface at `x`.
+    #[inline]
+    pub fn surface_velocity(&self, x: Vector) -> Vector {
+        self.motion.velocity + crate::math::turn(self.motion.omega, x - self.shape.reference())
+    }
+
+    /// Whether the wall changes place, so that no particle may be left off its watch
+    /// between list rebuilds (the Verlet skin only bounds the particles' motion).
+    #[inline]
+    pub fn translates(&self) -> bool {
+        self.motion.velocity != Vector::ZERO
+    }
+
+    /// Carries a translating wall through a step `dt`.
+    pub fn advance(&mut self, dt: f64) {
+        if self.translates() {
+            self.shape.translate(self.motion.velocity * dt);
+        }
+    }
 }
 
 /// A particle–wall contact: unit normal from the particle's centre towards the wall.
@@ -45,6 +93,138 @@ pub fn round(p: Vector, c: Vector, radius: f64, inside: bool) -> Option<WallTouc
             normal: -radial,
             distance: rho - radius,
         })
+    }
+}
+
+/// The touch of `p` on the flat ring about `c` (unit normal `u`) between the radii
+/// `inner` and `outer`: its face where `p` projects onto the ring, else the nearest
+/// point of the rim it projects past (an edge: the normal points at that point).
+#[cfg(feature = "dim3")]
+#[inline]
+pub fn annulus(p: Vector, c: Vector, u: Vector, inner: f64, outer: f64) -> Option<WallTouch> {
+    let u = u.normalize_or_zero();
+    let d = p - c;
+    let h = d.dot(u);
+    let q = d - h * u;
+    let rho = q.length();
+    let rim = if rho < inner {
+        inner
+    } else if rho > outer {
+        outer
+    } else {
+        return face(h, u);
+    };
+    if rho == 0.0 {
+        return None;
+    }
+    edge(p, c + q * (rim / rho))
+}
+
+/// The touch of `p` on the rectangle about `c` (normal `u`, sides `size` along `e`
+/// and across): its face, an edge or a corner, whichever is nearest.
+#[cfg(feature = "dim3")]
+#[inline]
+pub fn rectangle(p: Vector, c: Vector, u: Vector, e: Vector, size: [f64; 2]) -> Option<WallTouch> {
+    let u = u.normalize_or_zero();
+    let e1 = (e - e.dot(u) * u).normalize_or_zero();
+    let e2 = u.cross(e1);
+    let d = p - c;
+    let (a, b) = (d.dot(e1), d.dot(e2));
+    let (ca, cb) = (
+        a.clamp(-0.5 * size[0], 0.5 * size[0]),
+        b.clamp(-0.5 * size[1], 0.5 * size[1]),
+    );
+    if (ca, cb) == (a, b) {
+        return face(d.dot(u), u);
+    }
+    edge(p, c + ca * e1 + cb * e2)
+}
+
+/// The touch on a flat face of unit normal `u` of a point at height `h` above it (along
+/// `u`; either side).
+#[cfg(feature = "dim3")]
+#[inline]
+pub fn face(h: f64, u: Vector) -> Option<WallTouch> {
+    (h != 0.0).then(|| WallTouch {
+        normal: -u * h.signum(),
+        distance: h.abs(),
+    })
+}
+
+/// The touch of `p` on the point `x` of an edge.
+#[cfg(feature = "dim3")]
+#[inline]
+fn edge(p: Vector, x: Vector) -> Option<WallTouch> {
+    let v = x - p;
+    let dist = v.length();
+    (dist > 0.0).then(|| WallTouch {
+        normal: v / dist,
+        distance: dist,
+    })
+}
+
+#[cfg(all(test, feature = "dim3"))]
+mod tests3 {
+    use super::*;
+    use glam::DVec3;
+
+    #[test]
+    fn annulus_face_hole_rim_and_outer_rim() {
+        let floor = WallShape::Disk {
+            centre: [0.0, 0.0, 0.0],
+            normal: [0.0, 0.0, 2.0],
+            radius: 1.0,
+            hole: 0.25,
+        };
+        let t = floor.nearest(DVec3::new(0.5, 0.0, 0.1)).unwrap();
+        assert_eq!((t.distance, t.normal), (0.1, -DVec3::Z));
+        // Above the orifice: the rim circle is the contact (3-4-5 triangle).
+        let t = floor.nearest(DVec3::new(0.0, 0.05, 0.15)).unwrap();
+        assert!((t.distance - 0.25).abs() < 1e-15);
+        assert!((t.normal - DVec3::new(0.0, 0.8, -0.6)).length() < 1e-15);
+        let t = floor.nearest(DVec3::new(1.3, 0.0, -0.4)).unwrap();
+        assert!((t.distance - 0.5).abs() < 1e-15);
+        assert!((t.normal - DVec3::new(-0.6, 0.0, 0.8)).length() < 1e-15);
+        assert!(floor.nearest(DVec3::new(0.0, 0.0, 0.3)).is_none());
+    }
+
+    #[test]
+    fn rectangle_face_edge_and_corner() {
+        let plate = WallShape::Rectangle {
+            centre: [0.0, 0.0, 0.0],
+            normal: [0.0, 0.0, 1.0],
+            edge: [1.0, 0.0, 0.5],
+            size: [2.0, 1.0],
+        };
+        let t = plate.nearest(DVec3::new(0.9, 0.4, -0.2)).unwrap();
+        assert_eq!((t.distance, t.normal), (0.2, DVec3::Z));
+        let t = plate.nearest(DVec3::new(1.3, 0.0, 0.4)).unwrap();
+        assert!((t.distance - 0.5).abs() < 1e-15);
+        let t = plate.nearest(DVec3::new(2.0, 1.5, 0.0)).unwrap();
+        assert!((t.distance - 2f64.sqrt()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_turning_cylinder_drags_its_surface_and_a_moving_plane_moves() {
+        let mut w = Wall::fixed(
+            "drum",
+            WallShape::Cylinder {
+                point: [0.0, 0.0, 0.0],
+                axis: [0.0, 1.0, 0.0],
+                radius: 1.0,
+                inside: true,
+            },
+            None,
+        );
+        w.motion.omega = DVec3::new(0.0, 2.0, 0.0);
+        // ω × (x − axis point): at the bottom (0, 3, −1) the surface moves along −x.
+        assert_eq!(
+            w.surface_velocity(DVec3::new(0.0, 3.0, -1.0)),
+            DVec3::new(-2.0, 0.0, 0.0)
+        );
+        w.motion.velocity = DVec3::new(0.0, 0.0, 0.5);
+        w.advance(0.2);
+        assert_eq!(w.shape.reference(), DVec3::new(0.0, 0.0, 0.1));
     }
 }
 

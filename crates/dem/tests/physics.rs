@@ -148,6 +148,7 @@ fn resting_disk_on_floor_carries_its_weight() {
             b: [0.01, 0.0],
         },
         material: None,
+        motion: Default::default(),
     };
     let mut m = quartz(0.3);
     m.youngs = Some(1e6);

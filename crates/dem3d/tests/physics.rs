@@ -52,6 +52,7 @@ fn floor() -> Wall {
             normal: [0.0, 0.0, 1.0],
         },
         material: None,
+        motion: Default::default(),
     }
 }
 

@@ -159,6 +159,62 @@ pub fn values(all: &mut Vec<Case>) {
             &["domain.hi.z"],
         ),
         ("radius = 0.0005 }]", "radius = -0.0005 }]", &["radius"]),
+        // Moving and bounded walls.
+        (
+            "normal = [0.0, 0.0, 1.0]",
+            "normal = [0.0, 0.0, 1.0]\nomega = [1.0, 0.0, 0.0]",
+            &["wall[0].omega", "parallel"],
+        ),
+        (
+            "normal = [0.0, 0.0, 1.0]",
+            "normal = [0.0, 0.0, 1.0]\nvelocity = [1.0, nan, 0.0]",
+            &["wall[0].velocity"],
+        ),
+        (
+            "normal = [0.0, 0.0, 1.0]",
+            "normal = [0.0, 0.0, 1.0]\nvelocity = [1.0, 0.0]",
+            &["velocity"],
+        ),
+        (
+            "shape = \"plane\"\nname = \"floor\"\npoint",
+            "shape = \"disk\"\nname = \"floor\"\nradius = 0.004\nhole = 0.005\ncentre",
+            &["wall[0].hole", "0.005"],
+        ),
+        (
+            "shape = \"plane\"\nname = \"floor\"\npoint",
+            "shape = \"disk\"\nname = \"floor\"\nradius = -0.004\ncentre",
+            &["wall[0].radius"],
+        ),
+        (
+            "shape = \"plane\"\nname = \"floor\"\npoint",
+            "shape = \"rectangle\"\nname = \"floor\"\nedge = [0.0, 0.0, 2.0]\nsize = [0.01, 0.01]\ncentre",
+            &["wall[0].edge", "parallel"],
+        ),
+        (
+            "shape = \"plane\"\nname = \"floor\"\npoint",
+            "shape = \"rectangle\"\nname = \"floor\"\nedge = [1.0, 0.0, 0.0]\nsize = [0.01, 0.0]\ncentre",
+            &["wall[0].size[1]"],
+        ),
+        (
+            "shape = \"plane\"\nname = \"floor\"\npoint",
+            "shape = \"rectangle\"\nname = \"floor\"\nedge = [1.0, 0.0, 0.0]\nsize = [0.01, 0.01]\nomega = [0.0, 0.0, 1.0]\ncentre",
+            &["omega"],
+        ),
+        (
+            "[run]",
+            "[[check]]\nkind = \"repose_angle\"\nname = \"a\"\nwall = \"floor\"\nafter = 0.0\nlo = 20.0\nhi = 40.0\n\n[run]",
+            &["check[0].wall", "cylinder"],
+        ),
+        (
+            "[run]",
+            "[[check]]\nkind = \"final_velocity\"\nname = \"v\"\nparticle = 0\ndirection = [0.0, 0.0, 0.0]\nexpected = 1.0\ntolerance = 0.01\n\n[run]",
+            &["check[0].direction"],
+        ),
+        (
+            "[run]",
+            "[[check]]\nkind = \"beverloo\"\nname = \"w\"\nwall = \"floor\"\nafter = 0.0\npacking = 0.6\n\n[run]",
+            &["check[0].wall", "hole"],
+        ),
     ];
     for (from, to, expect) in edits {
         all.push(run_edit(DEM3, from, to, expect));

@@ -226,7 +226,7 @@ fn install(
     }
     list.row.resize(n + 1, list.nbr.len() as u32);
     list.index_owners();
-    list.history.clear();
+    list.history = Default::default();
     list.wall_shear = walls.into_iter().flatten().collect();
     list.wall_shear.resize(n * nw, Tangent::default());
     s.particles = local;

@@ -76,6 +76,12 @@ pub fn cross(a: Vector, f: Vector) -> AngVector {
     a.perp_dot(f)
 }
 
+/// The velocity ω × a of a point at `a` from the centre of a body turning at ω.
+#[inline(always)]
+pub fn turn(w: AngVector, a: Vector) -> Vector {
+    w * a.perp()
+}
+
 /// The tensor a ⊗ f.
 #[inline]
 pub fn outer(a: Vector, f: Vector) -> Tensor {
@@ -141,6 +147,18 @@ impl WallShape {
         match *self {
             WallShape::Segment { a, b } => 0.5 * (DVec2::from(a) + DVec2::from(b)),
             WallShape::Circle { centre, .. } => DVec2::from(centre),
+        }
+    }
+
+    /// Carries the wall by `d`.
+    pub fn translate(&mut self, d: Vector) {
+        let shift = |p: &mut [f64; 2]| *p = (DVec2::from(*p) + d).to_array();
+        match self {
+            WallShape::Segment { a, b } => {
+                shift(a);
+                shift(b);
+            }
+            WallShape::Circle { centre, .. } => shift(centre),
         }
     }
 

@@ -76,14 +76,20 @@ pub fn cross(a: Vector, f: Vector) -> AngVector {
     a.cross(f)
 }
 
+/// The velocity ω × a of a point at `a` from the axis of a body turning at ω.
+#[inline(always)]
+pub fn turn(w: AngVector, a: Vector) -> Vector {
+    w.cross(a)
+}
+
 /// The tensor a ⊗ f.
 #[inline]
 pub fn outer(a: Vector, f: Vector) -> Tensor {
     DMat3::from_cols(a * f.x, a * f.y, a * f.z)
 }
 
-/// Geometry of a wall, as written in the scenario (`shape = "plane" | "sphere" |
-/// "cylinder"`).
+/// Geometry of a wall, as written in the scenario (`shape = "plane" | "disk" |
+/// "rectangle" | "sphere" | "cylinder"`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "snake_case", deny_unknown_fields)]
 pub enum WallShape {
@@ -94,6 +100,33 @@ pub enum WallShape {
         point: [f64; 3],
         /// Its normal (need not be unit).
         normal: [f64; 3],
+    },
+    /// The part of the plane through `centre` with normal `normal` between the circles
+    /// of radius `hole` and `radius` about `centre` (a plate, or a silo's floor with its
+    /// orifice; `radius` may be infinite and `hole` zero). Spheres touch either face and
+    /// the two rims as edges.
+    Disk {
+        /// Centre (m).
+        centre: [f64; 3],
+        /// Its normal (need not be unit).
+        normal: [f64; 3],
+        /// Outer radius (m; infinite: no outer rim).
+        radius: f64,
+        /// Radius of the hole about the centre (m; zero: none).
+        hole: f64,
+    },
+    /// The rectangle about `centre` in the plane with normal `normal`, `size[0]` long
+    /// along `edge` (projected onto the plane) and `size[1]` across; spheres touch either
+    /// face, the edges and the corners.
+    Rectangle {
+        /// Centre (m).
+        centre: [f64; 3],
+        /// Its normal (need not be unit).
+        normal: [f64; 3],
+        /// Direction of the first side (need not be unit nor in the plane).
+        edge: [f64; 3],
+        /// Side lengths along `edge` and across it (m).
+        size: [f64; 2],
     },
     /// Sphere of `radius` about `centre`; `inside = true` keeps particles inside.
     Sphere {
@@ -123,16 +156,23 @@ impl WallShape {
     /// None when there is no defined normal (on the surface, at a centre or axis).
     #[inline]
     pub fn nearest(&self, p: Vector) -> Option<crate::walls::WallTouch> {
-        use crate::walls::WallTouch;
         match *self {
             WallShape::Plane { point, normal } => {
                 let u = DVec3::from(normal).normalize_or_zero();
-                let h = (p - DVec3::from(point)).dot(u);
-                (h != 0.0).then(|| WallTouch {
-                    normal: -u * h.signum(),
-                    distance: h.abs(),
-                })
+                crate::walls::face((p - DVec3::from(point)).dot(u), u)
             }
+            WallShape::Disk {
+                centre,
+                normal,
+                radius,
+                hole,
+            } => crate::walls::annulus(p, centre.into(), normal.into(), hole, radius),
+            WallShape::Rectangle {
+                centre,
+                normal,
+                edge,
+                size,
+            } => crate::walls::rectangle(p, centre.into(), normal.into(), edge.into(), size),
             WallShape::Sphere {
                 centre,
                 radius,
@@ -159,8 +199,34 @@ impl WallShape {
             WallShape::Plane { point, .. } | WallShape::Cylinder { point, .. } => {
                 DVec3::from(point)
             }
-            WallShape::Sphere { centre, .. } => DVec3::from(centre),
+            WallShape::Disk { centre, .. }
+            | WallShape::Rectangle { centre, .. }
+            | WallShape::Sphere { centre, .. } => DVec3::from(centre),
         }
+    }
+
+    /// The direction the wall turns about when its spin keeps its shape (a plane's or a
+    /// disk's normal, a cylinder's axis); None for a sphere (any axis) and a rectangle
+    /// (none).
+    pub fn axis(&self) -> Option<Vector> {
+        match *self {
+            WallShape::Plane { normal, .. } | WallShape::Disk { normal, .. } => {
+                Some(DVec3::from(normal).normalize_or_zero())
+            }
+            WallShape::Cylinder { axis, .. } => Some(DVec3::from(axis).normalize_or_zero()),
+            WallShape::Rectangle { .. } | WallShape::Sphere { .. } => None,
+        }
+    }
+
+    /// Carries the wall by `d`.
+    pub fn translate(&mut self, d: Vector) {
+        let p = match self {
+            WallShape::Plane { point, .. } | WallShape::Cylinder { point, .. } => point,
+            WallShape::Disk { centre, .. }
+            | WallShape::Rectangle { centre, .. }
+            | WallShape::Sphere { centre, .. } => centre,
+        };
+        *p = (DVec3::from(*p) + d).to_array();
     }
 }
 

@@ -52,6 +52,7 @@ fn replay(name: &str) -> f64 {
             name: "floor".into(),
             shape: floor(),
             material: None,
+            motion: Default::default(),
         }],
         None => Vec::new(),
     };

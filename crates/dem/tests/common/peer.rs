@@ -32,14 +32,14 @@ pub fn hooke(kn: f64, gamma_n: f64) -> ContactModel {
 
 /// The floor y = 0.
 pub fn floor() -> Wall {
-    Wall {
-        name: "floor".into(),
-        shape: WallShape::Segment {
+    Wall::fixed(
+        "floor",
+        WallShape::Segment {
             a: [-1e9, 0.0],
             b: [1e9, 0.0],
         },
-        material: None,
-    }
+        None,
+    )
 }
 
 /// `n` disks in rows `nx` wide, with a little sideways motion.

@@ -98,6 +98,7 @@ pub fn peer_setup(lo: DVec2, hi: DVec2) -> Setup {
             b: [1e9, 0.0],
         },
         material: None,
+        motion: Default::default(),
     };
     Setup::new(
         domain,

@@ -150,6 +150,7 @@ pub fn deck_setup(lo: DVec3, hi: DVec3) -> Setup {
             normal: [0.0, 0.0, 1.0],
         },
         material: Some(FLOOR),
+        motion: Default::default(),
     };
     let mut setup = Setup::new(
         domain,

@@ -148,6 +148,7 @@ pub fn assemble_with(
             name: spec.name().to_string(),
             shape,
             material,
+            motion: Default::default(),
         });
     }
 

@@ -2,13 +2,13 @@
 //! so a scenario that fails leaves no output behind.
 
 use super::law::{granular_dt, resolve};
-use super::scenario::{CheckSpec, Measure, RegionSpec, Scenario, SphereSource, WallSpec};
+use super::scenario::{CheckSpec, Measure, RegionSpec, Scenario, SphereSource};
 use crate::dem::assemble::{lattice_values, sphere_values};
 use glam::DVec3;
 use grains_core::input::{named_list, positive, time_step, InputError, Shown};
 use grains_core::rng;
 use grains_dem3d::granular::Normal;
-use grains_dem3d::{timestep, Domain, PairTable, Particles, Setup, Wall, WallShape};
+use grains_dem3d::{timestep, Domain, PairTable, Particles, Setup};
 use rand::RngExt;
 use std::collections::HashMap;
 
@@ -28,9 +28,9 @@ pub struct Assembled {
     pub restitution: PairTable<Option<f64>>,
 }
 
-const AXES: [&str; 3] = ["x", "y", "z"];
+pub(super) const AXES: [&str; 3] = ["x", "y", "z"];
 
-fn finite3(key: &str, v: [f64; 3]) -> Result<DVec3, InputError> {
+pub(super) fn finite3(key: &str, v: [f64; 3]) -> Result<DVec3, InputError> {
     if v.iter().all(|x| x.is_finite()) {
         Ok(DVec3::from(v))
     } else {
@@ -43,7 +43,7 @@ fn finite3(key: &str, v: [f64; 3]) -> Result<DVec3, InputError> {
 }
 
 /// The index of material `name`, referred to at `key`.
-fn material_index(s: &Scenario, key: &str, name: &str) -> Result<u16, InputError> {
+pub(super) fn material_index(s: &Scenario, key: &str, name: &str) -> Result<u16, InputError> {
     let names: Vec<&str> = s.materials.iter().map(|m| m.name.as_str()).collect();
     names
         .iter()
@@ -97,7 +97,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
             "at least one sphere is required",
         ));
     }
-    let walls = walls(s)?;
+    let walls = super::walls::walls(s)?;
     let mean_d = 2.0 * particles.radius.iter().sum::<f64>() / particles.len() as f64;
     let skin = s.run.validate(mean_d)?;
     s.output.validate(&super::CAPABILITIES, s.run.duration)?;
@@ -140,111 +140,6 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         steps,
         restitution: laws.restitution,
     })
-}
-
-fn walls(s: &Scenario) -> Result<Vec<Wall>, InputError> {
-    let mut out: Vec<Wall> = Vec::new();
-    for (w, spec) in s.walls.iter().enumerate() {
-        let key = format!("wall[{w}]");
-        let k = |f: &str| format!("{key}.{f}");
-        let (name, material) = match spec {
-            WallSpec::Plane { name, material, .. }
-            | WallSpec::Box { name, material, .. }
-            | WallSpec::Cylinder { name, material, .. }
-            | WallSpec::Sphere { name, material, .. } => (name, material),
-        };
-        let material = match material {
-            Some(m) => Some(material_index(s, &k("material"), m)?),
-            None => None,
-        };
-        let nonzero = |f: &str, v: [f64; 3]| -> Result<DVec3, InputError> {
-            let d = finite3(&k(f), v)?;
-            if d == DVec3::ZERO {
-                return Err(InputError::new(k(f), format!("{v:?}"), "must not be zero"));
-            }
-            Ok(d)
-        };
-        let mut shapes: Vec<(String, WallShape)> = Vec::new();
-        match *spec {
-            WallSpec::Plane { point, normal, .. } => {
-                finite3(&k("point"), point)?;
-                nonzero("normal", normal)?;
-                shapes.push((name.clone(), WallShape::Plane { point, normal }));
-            }
-            WallSpec::Box { lo, hi, .. } => {
-                let (l, h) = (finite3(&k("lo"), lo)?, finite3(&k("hi"), hi)?);
-                if !l.cmplt(h).all() {
-                    return Err(InputError::new(
-                        k("hi"),
-                        format!("{hi:?}"),
-                        format!("must exceed lo = {lo:?} on every axis"),
-                    ));
-                }
-                for a in 0..3 {
-                    let mut normal = [0.0; 3];
-                    normal[a] = 1.0;
-                    for (end, point) in [("lo", lo), ("hi", hi)] {
-                        shapes.push((
-                            format!("{name}_{}{end}", AXES[a]),
-                            WallShape::Plane { point, normal },
-                        ));
-                    }
-                }
-            }
-            WallSpec::Cylinder {
-                point,
-                axis,
-                radius,
-                inside,
-                ..
-            } => {
-                finite3(&k("point"), point)?;
-                nonzero("axis", axis)?;
-                positive(&k("radius"), radius)?;
-                shapes.push((
-                    name.clone(),
-                    WallShape::Cylinder {
-                        point,
-                        axis,
-                        radius,
-                        inside,
-                    },
-                ));
-            }
-            WallSpec::Sphere {
-                centre,
-                radius,
-                inside,
-                ..
-            } => {
-                finite3(&k("centre"), centre)?;
-                positive(&k("radius"), radius)?;
-                shapes.push((
-                    name.clone(),
-                    WallShape::Sphere {
-                        centre,
-                        radius,
-                        inside,
-                    },
-                ));
-            }
-        }
-        for (name, shape) in shapes {
-            if out.iter().any(|o| o.name == name) {
-                return Err(InputError::new(
-                    k("name"),
-                    format!("\"{name}\""),
-                    "wall names must be unique",
-                ));
-            }
-            out.push(Wall {
-                name,
-                shape,
-                material,
-            });
-        }
-    }
-    Ok(out)
 }
 
 /// The box about `region`, its values checked.
@@ -532,7 +427,9 @@ fn checks(
         })
     };
     for (k, c) in s.checks.iter().enumerate() {
-        positive(&format!("check[{k}].tolerance"), c.tolerance())?;
+        if let Some(t) = c.tolerance() {
+            positive(&format!("check[{k}].tolerance"), t)?;
+        }
         match c {
             CheckSpec::Collision {
                 measure,
@@ -586,6 +483,98 @@ fn checks(
                         format!("check[{k}].measure"),
                         format!("{measure:?}"),
                         format!("needs {why}"),
+                    ));
+                }
+            }
+            CheckSpec::FinalVelocity {
+                particle,
+                direction,
+                expected,
+                ..
+            } => {
+                if *particle >= n {
+                    return Err(InputError::new(
+                        format!("check[{k}].particle"),
+                        particle,
+                        format!("must be a particle id in 0..{n}"),
+                    ));
+                }
+                let d = finite3(&format!("check[{k}].direction"), *direction)?;
+                if d == DVec3::ZERO {
+                    return Err(InputError::new(
+                        format!("check[{k}].direction"),
+                        format!("{direction:?}"),
+                        "must not be zero",
+                    ));
+                }
+                if !expected.is_finite() || *expected == 0.0 {
+                    return Err(InputError::new(
+                        format!("check[{k}].expected"),
+                        expected,
+                        "must be a finite non-zero number (the check is relative)",
+                    ));
+                }
+            }
+            CheckSpec::ReposeAngle { wall, after, .. }
+            | CheckSpec::DrumTorque { wall, after, .. } => {
+                let w = wall_index(k, wall)?;
+                if !matches!(
+                    setup.walls[w].shape,
+                    grains_dem3d::WallShape::Cylinder { .. }
+                ) {
+                    return Err(InputError::new(
+                        format!("check[{k}].wall"),
+                        format!("\"{wall}\""),
+                        "must name a cylinder (the drum)",
+                    ));
+                }
+                grains_core::input::non_negative(&format!("check[{k}].after"), *after)?;
+                if let CheckSpec::ReposeAngle { lo, hi, .. } = c {
+                    grains_core::input::in_range(&format!("check[{k}].lo"), *lo, 0.0, 90.0)?;
+                    if !(hi.is_finite() && hi > lo && *hi <= 90.0) {
+                        return Err(InputError::new(
+                            format!("check[{k}].hi"),
+                            hi,
+                            format!("must exceed lo = {lo} and be at most 90 (degrees)"),
+                        ));
+                    }
+                }
+                if setup.gravity == DVec3::ZERO {
+                    return Err(InputError::new(
+                        "gravity",
+                        "[0, 0, 0]",
+                        format!("check[{k}] needs non-zero gravity"),
+                    ));
+                }
+            }
+            CheckSpec::Beverloo {
+                wall,
+                after,
+                packing,
+                ..
+            } => {
+                let w = wall_index(k, wall)?;
+                if !matches!(setup.walls[w].shape, grains_dem3d::WallShape::Disk { hole, .. } if hole > 0.0)
+                {
+                    return Err(InputError::new(
+                        format!("check[{k}].wall"),
+                        format!("\"{wall}\""),
+                        "must name a disk with a hole (the silo's floor)",
+                    ));
+                }
+                grains_core::input::non_negative(&format!("check[{k}].after"), *after)?;
+                if !(*packing > 0.0 && *packing < 1.0) {
+                    return Err(InputError::new(
+                        format!("check[{k}].packing"),
+                        packing,
+                        "must lie in (0, 1)",
+                    ));
+                }
+                if setup.gravity == DVec3::ZERO {
+                    return Err(InputError::new(
+                        "gravity",
+                        "[0, 0, 0]",
+                        format!("check[{k}] needs non-zero gravity"),
                     ));
                 }
             }

@@ -5,11 +5,14 @@
 //! the run contract are the ones every engine uses.
 
 pub mod assemble;
+pub mod drum;
 pub mod law;
 pub mod output;
 pub mod probes;
 pub mod run;
 pub mod scenario;
+pub mod silo;
+pub mod walls;
 
 use crate::driver::{Clock, ParticleView, Simulation};
 use crate::history::Recorded;
@@ -72,6 +75,10 @@ impl Simulation for Dem3 {
     }
 
     fn advance(&mut self) -> Result<(), String> {
+        // The walls first: the step's forces are those at its end, t + dt.
+        for w in &mut self.setup.walls {
+            w.advance(self.dt);
+        }
         step(&self.setup, &mut self.state, self.dt);
         Ok(())
     }
@@ -117,11 +124,17 @@ impl Simulation for Dem3 {
 impl Recorded for Dem3 {
     fn columns(&self) -> Vec<String> {
         let walls: Vec<&str> = self.setup.walls.iter().map(|w| w.name.as_str()).collect();
-        crate::dem::records::columns(
+        let mut c = crate::dem::records::columns(
             &["x", "y", "z"],
             &walls,
             &["fx", "fy", "fz", "tx", "ty", "tz"],
-        )
+        );
+        for (w, axis) in walls::spin_axes(&self.setup.walls).iter().enumerate() {
+            if axis.is_some() {
+                c.push(format!("{}_torque_axis", walls[w]));
+            }
+        }
+        c
     }
 
     fn integer_columns(&self) -> Vec<String> {
@@ -136,6 +149,11 @@ impl Recorded for Dem3 {
         for load in s.wall_loads.iter().take(self.setup.walls.len()) {
             row.extend(load.force.to_array());
             row.extend(load.torque.to_array());
+        }
+        for (load, axis) in s.wall_loads.iter().zip(walls::spin_axes(&self.setup.walls)) {
+            if let Some(u) = axis {
+                row.push(load.torque.dot(u));
+            }
         }
         row
     }

@@ -129,6 +129,70 @@ fn outlines(setup: &Setup, v: &View) -> Vec<Outline> {
                     out.extend(line(on(DVec3::from(point)), along));
                 }
             }
+            WallShape::Disk {
+                centre,
+                normal,
+                radius,
+                hole,
+            } => {
+                let (c, n) = (DVec3::from(centre), DVec3::from(normal).normalize());
+                let (e1, e2) = n.any_orthonormal_pair();
+                // A circle of the plate, projected: an ellipse, or a segment edge-on.
+                let ring = |r: f64| Outline {
+                    points: (0..=128)
+                        .map(|k| {
+                            let a = std::f64::consts::TAU * k as f64 / 128.0;
+                            on(c + r * (a.cos() * e1 + a.sin() * e2))
+                        })
+                        .collect(),
+                    closed: false,
+                };
+                if radius.is_finite() {
+                    out.push(ring(radius));
+                } else if n[v.depth].abs() < 1e-9 {
+                    let along = DVec2::new(-n[v.axes[1]], n[v.axes[0]]).normalize();
+                    if let Some(l) = line(on(c), along) {
+                        let t: Vec<f64> =
+                            l.points.iter().map(|q| (*q - on(c)).dot(along)).collect();
+                        for (a, b) in [(t[0], t[1].min(-hole)), (t[0].max(hole), t[1])] {
+                            if a < b {
+                                out.push(Outline {
+                                    points: vec![on(c) + a * along, on(c) + b * along],
+                                    closed: false,
+                                });
+                            }
+                        }
+                    }
+                }
+                // Edge-on, an unbounded plate's hole is the gap in its line.
+                if hole > 0.0 && (radius.is_finite() || n[v.depth].abs() >= 1e-9) {
+                    out.push(ring(hole));
+                }
+            }
+            WallShape::Rectangle {
+                centre,
+                normal,
+                edge,
+                size,
+            } => {
+                let (c, n, e) = (
+                    DVec3::from(centre),
+                    DVec3::from(normal).normalize(),
+                    DVec3::from(edge),
+                );
+                let e1: DVec3 = (e - e.dot(n) * n).normalize();
+                let e2 = n.cross(e1);
+                let corner = |a: f64, b: f64| on(c + 0.5 * (a * size[0] * e1 + b * size[1] * e2));
+                out.push(Outline {
+                    points: vec![
+                        corner(-1.0, -1.0),
+                        corner(1.0, -1.0),
+                        corner(1.0, 1.0),
+                        corner(-1.0, 1.0),
+                    ],
+                    closed: true,
+                });
+            }
             WallShape::Sphere { centre, radius, .. } => {
                 out.push(circle(DVec3::from(centre), radius))
             }

@@ -9,12 +9,15 @@
 //! Sliding throughout an impact on a wall: v_t' = v_t − μ(1 + e) v_n and
 //! ω' R = μ (1 + e) v_n / K (K = I / m R², e measured).
 
+use super::drum::DrumWatch;
 use super::scenario::{CheckSpec, Measure};
+use super::silo::{beverloo, orifice, DischargeWatch};
 use super::Dem3;
-use crate::driver::{Observer, Report, Status};
+use crate::driver::{Flow, Observer, Report, Status};
 use glam::DVec3;
 use grains_core::checks::Check;
 use grains_dem3d::diagnostics::index_of;
+use grains_dem3d::diagnostics::Diagnostics;
 use grains_dem3d::{PairTable, Setup, State};
 
 /// t_c v / δ_max of an undamped Hertz impact: 2 ∫₀¹ (1 − x^{5/2})^{−1/2} dx.
@@ -77,6 +80,8 @@ enum Partner {
 pub struct Probes {
     specs: Vec<CheckSpec>,
     impacts: Vec<Option<(u32, Partner, Impact)>>,
+    drums: Vec<Option<DrumWatch>>,
+    silos: Vec<Option<DischargeWatch>>,
     restitution: PairTable<Option<f64>>,
 }
 
@@ -123,12 +128,34 @@ impl Probes {
                     };
                     Some((*particle, to, impact))
                 }
-                CheckSpec::WallForceOverWeight { .. } => None,
+                _ => None,
+            })
+            .collect();
+        let wall = |name: &str| sim.setup.walls.iter().position(|w| w.name == name);
+        let drums = specs
+            .iter()
+            .map(|c| match c {
+                CheckSpec::ReposeAngle { wall: w, after, .. }
+                | CheckSpec::DrumTorque { wall: w, after, .. } => {
+                    Some(DrumWatch::new(wall(w)?, *after))
+                }
+                _ => None,
+            })
+            .collect();
+        let silos = specs
+            .iter()
+            .map(|c| match c {
+                CheckSpec::Beverloo { wall: w, after, .. } => {
+                    Some(DischargeWatch::new(wall(w)?, *after))
+                }
+                _ => None,
             })
             .collect();
         Probes {
             specs: specs.to_vec(),
             impacts,
+            drums,
+            silos,
             restitution,
         }
     }
@@ -185,11 +212,21 @@ impl Observer<Dem3> for Probes {
         }
     }
 
+    fn on_sample(&mut self, sim: &Dem3, _d: &Diagnostics) -> anyhow::Result<Flow> {
+        for d in self.drums.iter_mut().flatten() {
+            d.sample(sim);
+        }
+        for d in self.silos.iter_mut().flatten() {
+            d.sample(sim);
+        }
+        Ok(Flow::Continue)
+    }
+
     fn on_end(&mut self, sim: &Dem3, _status: &Status, report: &mut Report) -> anyhow::Result<()> {
         let (setup, s) = (&sim.setup, &sim.state);
         let p = &s.particles;
-        for (spec, slot) in self.specs.iter().zip(&self.impacts) {
-            let (name, tol) = (spec.name(), spec.tolerance());
+        for (k, (spec, slot)) in self.specs.iter().zip(&self.impacts).enumerate() {
+            let (name, tol) = (spec.name(), spec.tolerance().unwrap_or(0.0));
             let check = match (spec, slot) {
                 (CheckSpec::Collision { measure, .. }, Some((id, partner, m))) => {
                     let i = index_of(p, *id).expect("ids stay");
@@ -251,6 +288,66 @@ impl Observer<Dem3> for Probes {
                 }
                 (CheckSpec::WallForceOverWeight { wall, .. }, _) => {
                     Check::relative(name, load_over_weight(sim, wall), 1.0, tol)
+                }
+                (
+                    CheckSpec::FinalVelocity {
+                        particle,
+                        direction,
+                        expected,
+                        ..
+                    },
+                    _,
+                ) => {
+                    let i = index_of(p, *particle).expect("ids stay");
+                    let u = DVec3::from(*direction).normalize();
+                    Check::relative(name, p.vel[i].dot(u), *expected, tol)
+                }
+                (CheckSpec::ReposeAngle { lo, hi, .. }, _) => {
+                    let a = self.drums[k].as_ref().map_or(f64::NAN, |d| d.angle());
+                    Check::absolute(name, a, 0.5 * (lo + hi), 0.5 * (hi - lo))
+                }
+                (CheckSpec::Beverloo { wall, packing, .. }, _) => {
+                    let w = self.silos[k].as_ref();
+                    let rate = w.map_or(f64::NAN, |w| w.rate());
+                    let hole = setup.walls.iter().position(|x| &x.name == wall);
+                    let d_hole = hole.and_then(|h| orifice(sim, h)).map_or(f64::NAN, |o| o.2);
+                    let n = p.len().max(1) as f64;
+                    let d = 2.0 * p.radius.iter().sum::<f64>() / n;
+                    let volume: f64 = p
+                        .radius
+                        .iter()
+                        .map(|&r| grains_dem3d::math::measure(r))
+                        .sum();
+                    let mass: f64 = (0..p.len()).map(|i| p.mass(i)).sum();
+                    let rho_b = packing * mass / volume;
+                    let g = setup.gravity.length();
+                    let (lo, hi) = (
+                        beverloo(0.55, 2.9, rho_b, g, d_hole, d),
+                        beverloo(0.65, 1.3, rho_b, g, d_hole, d),
+                    );
+                    let c_fit = rate / beverloo(1.0, 1.5, rho_b, g, d_hole, d);
+                    report
+                        .figures
+                        .insert(format!("{name}_rate_kg_s"), rate.into());
+                    report
+                        .figures
+                        .insert(format!("{name}_orifice_m"), d_hole.into());
+                    report
+                        .figures
+                        .insert(format!("{name}_mean_diameter_m"), d.into());
+                    report
+                        .figures
+                        .insert(format!("{name}_bulk_density"), rho_b.into());
+                    report
+                        .figures
+                        .insert(format!("{name}_c_at_k1.5"), c_fit.into());
+                    Check::absolute(name, rate, 0.5 * (lo + hi), 0.5 * (hi - lo))
+                }
+                (CheckSpec::DrumTorque { .. }, _) => {
+                    let r = self.drums[k]
+                        .as_ref()
+                        .map_or(f64::NAN, |d| d.torque_over_moment());
+                    Check::relative(name, r, 1.0, tol)
                 }
                 (CheckSpec::Collision { .. }, None) => Check::relative(name, f64::NAN, 1.0, tol)
                     .with_note("the particle has no partner"),

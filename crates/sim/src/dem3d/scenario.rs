@@ -256,6 +256,58 @@ pub enum WallSpec {
         point: [f64; 3],
         /// Its normal.
         normal: [f64; 3],
+        /// Velocity of translation (m/s); default at rest.
+        #[serde(default)]
+        velocity: Option<[f64; 3]>,
+        /// Angular velocity about the normal through `point` (rad/s); default none.
+        #[serde(default)]
+        omega: Option<[f64; 3]>,
+    },
+    /// A flat ring: the plane through `centre` with normal `normal` between the radii
+    /// `hole` (default 0: no hole) and `radius` (default: unbounded); a silo's floor
+    /// with its orifice. Spheres touch its faces and its rims.
+    Disk {
+        /// Name.
+        name: String,
+        /// Material name.
+        #[serde(default)]
+        material: Option<String>,
+        /// Centre (m).
+        centre: [f64; 3],
+        /// Its normal.
+        normal: [f64; 3],
+        /// Outer radius (m).
+        #[serde(default)]
+        radius: Option<f64>,
+        /// Radius of the hole (m).
+        #[serde(default)]
+        hole: Option<f64>,
+        /// Velocity of translation (m/s); default at rest.
+        #[serde(default)]
+        velocity: Option<[f64; 3]>,
+        /// Angular velocity about the normal through `centre` (rad/s); default none.
+        #[serde(default)]
+        omega: Option<[f64; 3]>,
+    },
+    /// A rectangle about `centre` in the plane with normal `normal`: `size[0]` along
+    /// `edge`, `size[1]` across. It may translate, not turn.
+    Rectangle {
+        /// Name.
+        name: String,
+        /// Material name.
+        #[serde(default)]
+        material: Option<String>,
+        /// Centre (m).
+        centre: [f64; 3],
+        /// Its normal.
+        normal: [f64; 3],
+        /// Direction of the first side.
+        edge: [f64; 3],
+        /// Side lengths (m).
+        size: [f64; 2],
+        /// Velocity of translation (m/s); default at rest.
+        #[serde(default)]
+        velocity: Option<[f64; 3]>,
     },
     /// The six faces of an axis-aligned box, particles inside: walls `<name>_xlo`,
     /// `<name>_xhi`, ..., `<name>_zhi`.
@@ -285,6 +337,12 @@ pub enum WallSpec {
         radius: f64,
         /// Particles live inside.
         inside: bool,
+        /// Velocity of translation (m/s); default at rest.
+        #[serde(default)]
+        velocity: Option<[f64; 3]>,
+        /// Angular velocity about the axis (a drum) (rad/s); default none.
+        #[serde(default)]
+        omega: Option<[f64; 3]>,
     },
     /// A sphere; `inside = true` keeps particles inside.
     Sphere {
@@ -350,21 +408,84 @@ pub enum CheckSpec {
         /// Relative tolerance.
         tolerance: f64,
     },
+    /// A particle's velocity along `direction` at the end, against `expected` (a value
+    /// the scenario derives and states, e.g. 2/7 of a belt's speed for a sphere it
+    /// brings to rolling).
+    FinalVelocity {
+        /// Check name.
+        name: String,
+        /// The particle (creation order, from 0).
+        particle: u32,
+        /// The direction measured along (need not be unit).
+        direction: [f64; 3],
+        /// The expected velocity (m/s).
+        expected: f64,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
+    /// The dynamic angle of repose in the rotating drum `wall` (a cylinder), averaged
+    /// over history samples from `after` on, within [`lo`, `hi`] degrees.
+    ReposeAngle {
+        /// Check name.
+        name: String,
+        /// The drum's wall name.
+        wall: String,
+        /// Start of the averaging (s): after spin-up.
+        after: f64,
+        /// Lowest angle allowed (degrees).
+        lo: f64,
+        /// Highest angle allowed (degrees).
+        hi: f64,
+    },
+    /// The steady discharge rate W through the hole of the floor `wall` (a disk):
+    /// the slope of the mass below the floor against time from `after` on, within
+    /// Beverloo's W = C ρ_b √g (D − k d)^{5/2} over the literature's spread, C 0.55–0.65
+    /// and k 1.3–2.9, with ρ_b = `packing` × the grains' density.
+    Beverloo {
+        /// Check name.
+        name: String,
+        /// The floor's wall name.
+        wall: String,
+        /// Start of the steady window (s).
+        after: f64,
+        /// Solid fraction of the flowing bed, for its bulk density.
+        packing: f64,
+    },
+    /// The mean torque of the grains on the drum `wall` about its axis over the mean
+    /// moment of their weight about it, from `after` on (expected 1).
+    DrumTorque {
+        /// Check name.
+        name: String,
+        /// The drum's wall name.
+        wall: String,
+        /// Start of the averaging (s).
+        after: f64,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
 }
 
 impl CheckSpec {
     /// The check's name.
     pub fn name(&self) -> &str {
         match self {
-            CheckSpec::Collision { name, .. } | CheckSpec::WallForceOverWeight { name, .. } => name,
+            CheckSpec::Collision { name, .. }
+            | CheckSpec::WallForceOverWeight { name, .. }
+            | CheckSpec::FinalVelocity { name, .. }
+            | CheckSpec::ReposeAngle { name, .. }
+            | CheckSpec::Beverloo { name, .. }
+            | CheckSpec::DrumTorque { name, .. } => name,
         }
     }
 
-    /// The relative tolerance.
-    pub fn tolerance(&self) -> f64 {
+    /// The relative tolerance (None for a range).
+    pub fn tolerance(&self) -> Option<f64> {
         match self {
             CheckSpec::Collision { tolerance, .. }
-            | CheckSpec::WallForceOverWeight { tolerance, .. } => *tolerance,
+            | CheckSpec::WallForceOverWeight { tolerance, .. }
+            | CheckSpec::FinalVelocity { tolerance, .. }
+            | CheckSpec::DrumTorque { tolerance, .. } => Some(*tolerance),
+            CheckSpec::ReposeAngle { .. } | CheckSpec::Beverloo { .. } => None,
         }
     }
 }
