@@ -1,4 +1,4 @@
-"""grains: DEM, MPM and FEM–DEM simulations of granular materials, from Python.
+"""grains: DEM (2D and 3D), MPM and FEM–DEM simulations of granular materials, from Python.
 
 Open a scenario (the same TOML files `grains run` reads), step it, read its particles
 as numpy arrays, add forces from Python, and write what `grains run` writes.
@@ -23,7 +23,11 @@ class StaleViewError(RuntimeError):
     """A view used after the engine reordered or resized its particle storage."""
 
 class Particles:
-    """The particles in id order (copies). Fields an engine has not are None."""
+    """The particles in id order (copies). Fields an engine has not are None.
+
+    2D runs: position, velocity, force (N, 2); omega, torque (N,); mass in kg/m.
+    3D runs (dim == 3): position, velocity, force, omega, torque all (N, 3); mass in kg.
+    """
 
     id: npt.NDArray[np.uint32]
     position: npt.NDArray[np.float64]
@@ -54,7 +58,10 @@ class View:
 ForceResult = Union[npt.NDArray[np.float64], Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]]
 
 class Simulation:
-    """A simulation of any engine (DEM, MPM, FEM–DEM), opened from a scenario."""
+    """A simulation of any engine (DEM in 2D or 3D, MPM, FEM–DEM), opened from a scenario.
+
+    Vectors have `dim` components: 2, or 3 for a 3D DEM run (`dim = 3` in the scenario).
+    """
 
     @staticmethod
     def from_file(path: _Path) -> "Simulation":
@@ -88,16 +95,21 @@ class Simulation:
     def state_hash(self) -> str:
         """The command line's fingerprint of the whole state (hex, as summary.json)."""
     def particles(self) -> Particles:
-        """The particles in id order (copies)."""
+        """The particles in id order (copies); vectors (N, dim)."""
     def view(self, name: str) -> View:
-        """A read-only zero-copy view of a particle field (storage order)."""
+        """A read-only zero-copy view of a particle field (storage order): id, position,
+        velocity, omega, radius, force ((N, dim); omega (N, 3) in 3D); MPM: id, position,
+        velocity, mass."""
     def set(self, name: str, ids: npt.ArrayLike, values: npt.ArrayLike) -> None:
-        """Sets "position" or "velocity" of the particles `ids` to (k, 2) float64 `values`."""
+        """Sets "position" or "velocity" of the particles `ids` to (k, dim) float64
+        `values` (another shape or dtype: ValueError naming the array and both shapes)."""
     def add_force(self, fn: Callable[["Simulation"], ForceResult]) -> None:
-        """fn(sim) returns (N, 2) forces in id order (or (forces, torques)), added every
-        step after the contact forces (DEM and FEM–DEM)."""
+        """fn(sim) returns (N, dim) forces in id order, or (forces, torques) with torques
+        (N,) in 2D and (N, 3) in 3D, added every step after the contact forces (DEM in 2D
+        and 3D, FEM–DEM)."""
     def contacts(self) -> Dict[str, npt.NDArray[Any]]:
-        """Touching pairs: i, j (ids), overlap, normal_force, tangential_force, branch."""
+        """Touching pairs: i, j (ids), overlap, and on i normal_force, tangential_force,
+        and branch (i's centre to j's), each (M, dim)."""
     def points(self) -> Dict[str, npt.NDArray[Any]]:
         """MPM points: id, body, position, velocity, mass, volume, stress."""
     def charge(self) -> Dict[str, npt.NDArray[Any]]:
@@ -109,7 +121,7 @@ class Simulation:
     def write(self, out: _Path) -> None:
         """Ends the run and writes what `grains run` writes into `out`."""
     def checkpoint(self, path: _Path) -> None:
-        """Writes a resumable run directory (DEM and FEM–DEM)."""
+        """Writes a resumable run directory (DEM in 2D and 3D, FEM–DEM)."""
 
 def run(path: _Path, out: Optional[_Path] = None, threads: Optional[int] = None) -> Dict[str, Any]:
     """Runs a scenario file as `grains run` does; returns the summary."""

@@ -1,35 +1,89 @@
 //! Between numpy arrays and the engines' vectors: copies out, checked reads in (a wrong
 //! dtype or shape is a `ValueError` naming the array and both shapes).
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 use numpy::{PyArray1, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-/// An (N, 2) float64 array, copied from `v`.
-pub fn vec2<'py>(py: Python<'py>, v: &[DVec2]) -> Bound<'py, PyAny> {
-    vec2_owned(py, v.to_vec())
+/// A per-particle value handed to numpy as one row of `WIDTH` float64 (a scalar: one
+/// number, shape (N,)), laid out in memory as exactly those numbers, so a `Vec` of them
+/// becomes an array without a copy.
+///
+/// # Safety
+/// The type is `WIDTH` `f64`s with `f64`'s alignment and nothing else.
+pub unsafe trait Row: Copy + Send + 'static {
+    /// Numbers per value.
+    const WIDTH: usize;
+    /// Whether numpy shows one value per particle as a scalar (shape (N,)) rather than a
+    /// row (shape (N, WIDTH)).
+    const SCALAR: bool;
+    /// The value from a row of `WIDTH` numbers.
+    fn from_row(r: &[f64]) -> Self;
+    /// The shape of `n` values.
+    fn shape(n: usize) -> Vec<usize> {
+        if Self::SCALAR {
+            vec![n]
+        } else {
+            vec![n, Self::WIDTH]
+        }
+    }
 }
 
-// What `vec2_owned` relies on.
-const _: () = assert!(std::mem::size_of::<DVec2>() == 16 && std::mem::align_of::<DVec2>() == 8);
+// SAFETY: one f64.
+unsafe impl Row for f64 {
+    const WIDTH: usize = 1;
+    const SCALAR: bool = true;
+    fn from_row(r: &[f64]) -> Self {
+        r[0]
+    }
+}
 
-/// An (N, 2) float64 array, taking `v` without a copy.
-pub fn vec2_owned(py: Python<'_>, v: Vec<DVec2>) -> Bound<'_, PyAny> {
-    let n = v.len();
+// SAFETY: glam's DVec2 and DVec3 are #[repr(C)] structs of 2 and 3 f64 (checked below).
+unsafe impl Row for DVec2 {
+    const WIDTH: usize = 2;
+    const SCALAR: bool = false;
+    fn from_row(r: &[f64]) -> Self {
+        DVec2::new(r[0], r[1])
+    }
+}
+
+// SAFETY: as DVec2's.
+unsafe impl Row for DVec3 {
+    const WIDTH: usize = 3;
+    const SCALAR: bool = false;
+    fn from_row(r: &[f64]) -> Self {
+        DVec3::new(r[0], r[1], r[2])
+    }
+}
+
+const _: () = assert!(std::mem::size_of::<DVec2>() == 16 && std::mem::align_of::<DVec2>() == 8);
+const _: () = assert!(std::mem::size_of::<DVec3>() == 24 && std::mem::align_of::<DVec3>() == 8);
+
+/// An (N, WIDTH) (or (N,)) float64 array, copied from `v`.
+pub fn rows<'py, V: Row>(py: Python<'py>, v: &[V]) -> Bound<'py, PyAny> {
+    rows_owned(py, v.to_vec())
+}
+
+/// An (N, WIDTH) (or (N,)) float64 array, taking `v` without a copy.
+pub fn rows_owned<V: Row>(py: Python<'_>, v: Vec<V>) -> Bound<'_, PyAny> {
+    let (n, w) = (v.len(), V::WIDTH);
     let mut v = std::mem::ManuallyDrop::new(v);
-    // SAFETY: DVec2 is #[repr(C)] { x: f64, y: f64 }: two f64 with f64's alignment, so N
-    // of them are 2N f64 in the same allocation (capacity likewise).
-    let flat = unsafe { Vec::from_raw_parts(v.as_mut_ptr() as *mut f64, 2 * n, 2 * v.capacity()) };
-    PyArray1::from_vec(py, flat)
-        .reshape([n, 2])
-        .expect("2N values make N rows of 2")
+    // SAFETY: `Row` says a V is W f64 with f64's alignment, so N of them are W N f64 in
+    // the same allocation (capacity likewise).
+    let flat = unsafe { Vec::from_raw_parts(v.as_mut_ptr() as *mut f64, w * n, w * v.capacity()) };
+    let a = PyArray1::from_vec(py, flat);
+    if V::SCALAR {
+        return a.into_any();
+    }
+    a.reshape([n, w])
+        .expect("W N values make N rows of W")
         .into_any()
 }
 
 /// An (N,) float64 array, taking `v`.
 pub fn scalars(py: Python<'_>, v: Vec<f64>) -> Bound<'_, PyAny> {
-    PyArray1::from_vec(py, v).into_any()
+    rows_owned(py, v)
 }
 
 /// An (N,) uint32 array, taking `v`.
@@ -63,39 +117,14 @@ fn as_array<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyUntypedArray>
     Ok(a.cast_into::<PyUntypedArray>()?)
 }
 
-/// Reads `obj` as an (n, 2) float64 array named `what` for `call`.
-pub fn read_vec2(obj: &Bound<'_, PyAny>, call: &str, what: &str, n: usize) -> PyResult<Vec<DVec2>> {
-    let a = as_array(obj)?;
-    if !a.dtype().is_equiv_to(&numpy::dtype::<f64>(obj.py())) {
-        return Err(PyValueError::new_err(format!(
-            "{call}: {what} has dtype {}, expected float64",
-            a.dtype()
-        )));
-    }
-    if a.shape() != [n, 2] {
-        return Err(PyValueError::new_err(format!(
-            "{call}: {what} has shape {}, expected {}",
-            shown(a.shape()),
-            shown(&[n, 2])
-        )));
-    }
-    let a = a.cast::<numpy::PyArray2<f64>>()?;
-    let r = a.readonly();
-    let view = r.as_array();
-    Ok(view
-        .rows()
-        .into_iter()
-        .map(|row| DVec2::new(row[0], row[1]))
-        .collect())
-}
-
-/// Reads `obj` as an (n,) float64 array named `what` for `call`.
-pub fn read_scalars(
+/// Reads `obj` as `n` values `V` (an (n, WIDTH) or (n,) float64 array) named `what` for
+/// `call`.
+pub fn read_rows<V: Row>(
     obj: &Bound<'_, PyAny>,
     call: &str,
     what: &str,
     n: usize,
-) -> PyResult<Vec<f64>> {
+) -> PyResult<Vec<V>> {
     let a = as_array(obj)?;
     if !a.dtype().is_equiv_to(&numpy::dtype::<f64>(obj.py())) {
         return Err(PyValueError::new_err(format!(
@@ -103,14 +132,21 @@ pub fn read_scalars(
             a.dtype()
         )));
     }
-    if a.shape() != [n] {
+    let want = V::shape(n);
+    if a.shape() != want.as_slice() {
         return Err(PyValueError::new_err(format!(
             "{call}: {what} has shape {}, expected {}",
             shown(a.shape()),
-            shown(&[n])
+            shown(&want)
         )));
     }
-    Ok(a.cast::<PyArray1<f64>>()?.to_vec()?)
+    let flat = obj
+        .py()
+        .import("numpy")?
+        .call_method1("ravel", (a,))?
+        .cast_into::<PyArray1<f64>>()?
+        .to_vec()?;
+    Ok(flat.chunks_exact(V::WIDTH).map(V::from_row).collect())
 }
 
 /// Reads `obj` as a one-dimensional array of particle ids named `what` for `call`.

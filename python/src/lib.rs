@@ -117,7 +117,7 @@ fn pack(py: Python<'_>, spec: PathBuf, out: Option<PathBuf>) -> PyResult<Py<PyAn
         let d = d.bind(py);
         let sample = grains_analysis::sample::load(&out.join("packing.txt"))
             .map_err(|e| PyOSError::new_err(e.to_string()))?;
-        d.set_item("position", arrays::vec2(py, &sample.pos))?;
+        d.set_item("position", arrays::rows(py, &sample.pos))?;
         d.set_item("radius", arrays::scalars(py, sample.radius.clone()))?;
         d.set_item("out", out)?;
         Ok(d.clone().unbind())
@@ -162,7 +162,7 @@ fn _panic(py: Python<'_>, message: String, pool: bool) -> PyResult<()> {
     })
 }
 
-/// grains: DEM, MPM and FEM–DEM simulations of granular materials, from Python.
+/// grains: DEM (2D and 3D), MPM and FEM–DEM simulations of granular materials, from Python.
 #[pymodule]
 fn grains(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();

@@ -1,9 +1,11 @@
 //! `grains.Simulation`: one handle on a run of any engine (a `Session`), stepped with
 //! the GIL released and Ctrl-C checked between steps.
 
-use crate::arrays::{ids, read_ids, read_vec2, scalars, vec2, vec2_owned};
+use crate::arrays::{ids, read_ids, read_rows, rows, rows_owned, scalars, Row};
 use crate::{from_json, guarded, panic_message, InputError, InternalError};
-use grains_sim::session::{self, data::ParticleData, Session};
+use glam::{DVec2, DVec3};
+use grains_sim::session::data::{Contacts, ParticleData, ParticleData3};
+use grains_sim::session::{self, Session};
 use grains_sim::Status;
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -14,18 +16,29 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, TryLockError};
 use std::time::Instant;
 
+/// The particles in id order, of a 2D or a 3D run.
+#[derive(Clone)]
+pub enum Snapshot {
+    /// Disks (or MPM points).
+    Two(Arc<ParticleData>),
+    /// Spheres.
+    Three(Arc<ParticleData3>),
+}
+
 /// What a force callback sees of the run, mid-step.
 pub struct InStep {
     /// The particles in id order.
-    pub particles: Arc<ParticleData>,
+    pub particles: Snapshot,
     /// The time at the end of the step being taken (s).
     pub time: f64,
 }
 
-/// A simulation of any engine (DEM, MPM, FEM–DEM), opened from a scenario.
+/// A simulation of any engine (DEM in 2D or 3D, MPM, FEM–DEM), opened from a scenario.
 #[pyclass(module = "grains", frozen, weakref)]
 pub struct Simulation {
     inner: Mutex<Session>,
+    /// Spatial dimensions (fixed for a run).
+    dim: usize,
     in_step: Mutex<Option<InStep>>,
     broken: AtomicBool,
     /// Weak references to the owners of the arrays views handed out.
@@ -35,24 +48,26 @@ pub struct Simulation {
     chunk: AtomicU64,
 }
 
-/// The particles in id order (copies); fields the engine has not are None.
+/// The particles in id order (copies); fields the engine has not are None. 2D runs:
+/// vectors (N, 2), spins and torques (N,); 3D runs: all (N, 3).
 #[pyclass(module = "grains", frozen, get_all)]
 pub struct Particles {
     /// Ids (N,), uint32.
     pub id: Py<PyAny>,
-    /// Positions (N, 2), m.
+    /// Positions (N, dim), m.
     pub position: Py<PyAny>,
-    /// Velocities (N, 2), m/s.
+    /// Velocities (N, dim), m/s.
     pub velocity: Py<PyAny>,
-    /// Angular velocities (N,), rad/s (None for MPM points).
+    /// Angular velocities, rad/s: (N,) in 2D, (N, 3) in 3D (None for MPM points).
     pub omega: Py<PyAny>,
     /// Radii (N,), m.
     pub radius: Py<PyAny>,
-    /// Masses (N,), kg/m.
+    /// Masses (N,): kg/m in 2D, kg in 3D.
     pub mass: Py<PyAny>,
-    /// Forces at the last evaluation (N, 2), N/m (None for MPM points).
+    /// Forces at the last evaluation (N, dim): N/m in 2D, N in 3D (None for MPM points).
     pub force: Py<PyAny>,
-    /// Torques at the last evaluation (N,), N (None for MPM points).
+    /// Torques at the last evaluation: (N,) N in 2D, (N, 3) N m in 3D (None for MPM
+    /// points).
     pub torque: Py<PyAny>,
 }
 
@@ -76,18 +91,30 @@ pub(crate) fn to_py(e: session::Error) -> PyErr {
     }
 }
 
-fn particles_object(py: Python<'_>, p: ParticleData) -> PyResult<Particles> {
+fn particles_object<V: Row, A: Row>(py: Python<'_>, p: ParticleData<V, A>) -> Particles {
     let opt = |v: Option<Bound<'_, PyAny>>| v.map_or_else(|| py.None(), |b| b.unbind());
-    Ok(Particles {
+    Particles {
         id: ids(py, p.id).unbind(),
-        position: vec2_owned(py, p.pos).unbind(),
-        velocity: vec2_owned(py, p.vel).unbind(),
-        omega: opt(p.omega.map(|v| scalars(py, v))),
+        position: rows_owned(py, p.pos).unbind(),
+        velocity: rows_owned(py, p.vel).unbind(),
+        omega: opt(p.omega.map(|v| rows_owned(py, v))),
         radius: scalars(py, p.radius).unbind(),
         mass: scalars(py, p.mass).unbind(),
-        force: opt(p.force.map(|v| vec2_owned(py, v))),
-        torque: opt(p.torque.map(|v| scalars(py, v))),
-    })
+        force: opt(p.force.map(|v| rows_owned(py, v))),
+        torque: opt(p.torque.map(|v| rows_owned(py, v))),
+    }
+}
+
+/// The contacts as a dict of arrays.
+fn contacts_dict<V: Row>(py: Python<'_>, c: Contacts<V>) -> PyResult<Py<PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("i", ids(py, c.i))?;
+    d.set_item("j", ids(py, c.j))?;
+    d.set_item("overlap", scalars(py, c.overlap))?;
+    d.set_item("normal_force", rows_owned(py, c.normal_force))?;
+    d.set_item("tangential_force", rows_owned(py, c.tangential_force))?;
+    d.set_item("branch", rows_owned(py, c.branch))?;
+    Ok(d.unbind())
 }
 
 /// A Python dict (of TOML-able values) as a TOML table.
@@ -144,6 +171,7 @@ fn to_toml(v: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
 impl Simulation {
     fn wrap(s: Session) -> Self {
         Simulation {
+            dim: s.dim(),
             inner: Mutex::new(s),
             in_step: Mutex::new(None),
             broken: AtomicBool::new(false),
@@ -289,8 +317,8 @@ fn status_name(s: &Status) -> &'static str {
 
 #[pymethods]
 impl Simulation {
-    /// Opens the scenario file `path` (DEM, MPM or FEM–DEM); raises InputError with the
-    /// command line's one-line message when it is refused.
+    /// Opens the scenario file `path` (DEM in 2D or 3D, MPM or FEM–DEM); raises
+    /// InputError with the command line's one-line message when it is refused.
     #[staticmethod]
     fn from_file(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         guarded(|| {
@@ -418,10 +446,10 @@ impl Simulation {
         self.with(|s| Ok(s.engine()))
     }
 
-    /// Spatial dimensions.
+    /// Spatial dimensions: 2, or 3 for a 3D DEM run.
     #[getter]
     fn dim(&self) -> usize {
-        2
+        self.dim
     }
 
     /// How the run's own rules stopped it ("at_rest", "unstable"), or None.
@@ -441,14 +469,22 @@ impl Simulation {
         self.with(|s| Ok(format!("{:016x}", s.state_hash())))
     }
 
-    /// The particles in id order (copies): DEM disks, a FEM–DEM run's ring, MPM points.
+    /// The particles in id order (copies): DEM disks or spheres, a FEM–DEM run's ring,
+    /// MPM points.
     fn particles(&self, py: Python<'_>) -> PyResult<Particles> {
         guarded(|| {
             if let Some(p) = self.in_step(|s| s.particles.clone()) {
-                return particles_object(py, (*p).clone());
+                return Ok(match p {
+                    Snapshot::Two(p) => particles_object(py, (*p).clone()),
+                    Snapshot::Three(p) => particles_object(py, (*p).clone()),
+                });
+            }
+            if self.dim == 3 {
+                let p = self.with(|s| Ok(py.detach(move || s.particles3())))?;
+                return Ok(particles_object(py, p.unwrap_or_default()));
             }
             let p = self.with(|s| Ok(py.detach(move || s.particles())))?;
-            particles_object(py, p)
+            Ok(particles_object(py, p))
         })
     }
 
@@ -460,19 +496,25 @@ impl Simulation {
         crate::view::View::new(slf, name)
     }
 
-    /// Sets "position" or "velocity" of the particles `ids` to `values` (k, 2) float64.
+    /// Sets "position" or "velocity" of the particles `ids` to `values`, (k, dim)
+    /// float64.
     fn set(&self, name: &str, ids: &Bound<'_, PyAny>, values: &Bound<'_, PyAny>) -> PyResult<()> {
         guarded(|| {
             let call = format!("set({name:?})");
             let ids = read_ids(ids, &call, "ids")?;
-            let v = read_vec2(values, &call, "values", ids.len())?;
+            let k = ids.len();
+            if self.dim == 3 {
+                let v = read_rows::<DVec3>(values, &call, "values", k)?;
+                return self.with(|s| s.set3(name, &ids, &v).map_err(to_py));
+            }
+            let v = read_rows::<DVec2>(values, &call, "values", k)?;
             self.with(|s| s.set(name, &ids, &v).map_err(to_py))
         })
     }
 
-    /// Adds a force callback (DEM and FEM–DEM runs): `fn(sim)` returns an (N, 2) float64
-    /// array of forces in id order (or a tuple with an (N,) array of torques), added to
-    /// the particles in every step after the contact forces are summed.
+    /// Adds a force callback (DEM and FEM–DEM runs): `fn(sim)` returns an (N, dim)
+    /// float64 array of forces in id order (or a tuple with torques: (N,) in 2D, (N, 3)
+    /// in 3D), added to the particles in every step after the contact forces are summed.
     fn add_force(slf: &Bound<'_, Self>, func: Bound<'_, PyAny>) -> PyResult<()> {
         let py = slf.py();
         let weak = py.import("weakref")?.call_method1("ref", (slf,))?;
@@ -481,24 +523,30 @@ impl Simulation {
             sim: weak.unbind(),
         };
         let me = slf.get();
-        guarded(|| me.with(|s| s.add_force(Box::new(f)).map_err(to_py)))
+        guarded(|| {
+            me.with(|s| {
+                match me.dim {
+                    3 => s.add_force3(Box::new(f)),
+                    _ => s.add_force(Box::new(f)),
+                }
+                .map_err(to_py)
+            })
+        })
     }
 
     /// The touching pairs (DEM and FEM–DEM): a dict of arrays i, j (ids), overlap,
-    /// normal_force and tangential_force (on i, (M, 2)), branch (from i to j, (M, 2)).
+    /// normal_force and tangential_force (on i, (M, dim)), branch (from i to j,
+    /// (M, dim)).
     fn contacts(&self, py: Python<'_>) -> PyResult<Py<PyDict>> {
         guarded(|| {
+            if self.dim == 3 {
+                let c = self.with(|s| Ok(s.contacts3()))?.unwrap_or_default();
+                return contacts_dict(py, c);
+            }
             let c = self.with(|s| Ok(s.contacts()))?.ok_or_else(|| {
                 PyValueError::new_err("contacts(): an MPM run has no particle contacts")
             })?;
-            let d = PyDict::new(py);
-            d.set_item("i", ids(py, c.i))?;
-            d.set_item("j", ids(py, c.j))?;
-            d.set_item("overlap", scalars(py, c.overlap))?;
-            d.set_item("normal_force", vec2(py, &c.normal_force))?;
-            d.set_item("tangential_force", vec2(py, &c.tangential_force))?;
-            d.set_item("branch", vec2(py, &c.branch))?;
-            Ok(d.unbind())
+            contacts_dict(py, c)
         })
     }
 
@@ -512,8 +560,8 @@ impl Simulation {
             let d = PyDict::new(py);
             d.set_item("id", ids(py, p.id))?;
             d.set_item("body", ids(py, p.body.iter().map(|&b| b as u32).collect()))?;
-            d.set_item("position", vec2(py, &p.pos))?;
-            d.set_item("velocity", vec2(py, &p.vel))?;
+            d.set_item("position", rows(py, &p.pos))?;
+            d.set_item("velocity", rows(py, &p.vel))?;
             d.set_item("mass", scalars(py, p.mass))?;
             d.set_item("volume", scalars(py, p.volume))?;
             let flat: Vec<f64> = p.stress.iter().flatten().copied().collect();
@@ -534,8 +582,8 @@ impl Simulation {
                 PyValueError::new_err("charge(): only FEM–DEM runs have a charge")
             })?;
             let d = PyDict::new(py);
-            d.set_item("position", vec2(py, &c.node_pos))?;
-            d.set_item("velocity", vec2(py, &c.node_vel))?;
+            d.set_item("position", rows(py, &c.node_pos))?;
+            d.set_item("velocity", rows(py, &c.node_vel))?;
             let k = c.triangles.len();
             let flat: Vec<u32> = c.triangles.iter().flatten().copied().collect();
             d.set_item(
@@ -581,7 +629,8 @@ impl Simulation {
     }
 
     /// Writes a checkpoint into the directory `path` (a run directory that
-    /// `Simulation.resume` and `grains resume` continue bitwise); DEM and FEM–DEM.
+    /// `Simulation.resume` and `grains resume` continue bitwise); DEM (2D and 3D) and
+    /// FEM–DEM.
     fn checkpoint(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         guarded(|| self.with(|s| py.detach(|| s.checkpoint(&path)).map_err(to_py)))
     }
@@ -590,8 +639,9 @@ impl Simulation {
         self.with(|s| {
             let c = s.clock();
             Ok(format!(
-                "<grains.Simulation engine={} t={:.6e} s steps={}>",
+                "<grains.Simulation engine={} dim={} t={:.6e} s steps={}>",
                 s.engine(),
+                self.dim,
                 c.time,
                 c.step
             ))

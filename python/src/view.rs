@@ -35,7 +35,7 @@ impl View {
         let s = sim.get().locked()?;
         let field = s.field(name).ok_or_else(|| {
             PyValueError::new_err(format!(
-                "view: name = {name:?}: not a field of this {} run (DEM and FEM–DEM: id, position, velocity, omega, radius, force; MPM: id, position, velocity, mass)",
+                "view: name = {name:?}: not a field of this {} run (DEM in 2D and 3D, and FEM–DEM: id, position, velocity, omega, radius, force; MPM: id, position, velocity, mass)",
                 s.engine()
             ))
         })?;
@@ -53,6 +53,7 @@ fn len(f: Field<'_>) -> usize {
         Field::Ids(v) => v.len(),
         Field::Scalar(v) => v.len(),
         Field::Vector(v) => v.len(),
+        Field::Vector3(v) => v.len(),
     }
 }
 
@@ -96,6 +97,10 @@ impl View {
                 }
                 Field::Vector(v) => {
                     let a = ArrayView2::from_shape_ptr((v.len(), 2), v.as_ptr() as *const f64);
+                    PyArray2::borrow_from_array(&a, owner).into_any()
+                }
+                Field::Vector3(v) => {
+                    let a = ArrayView2::from_shape_ptr((v.len(), 3), v.as_ptr() as *const f64);
                     PyArray2::borrow_from_array(&a, owner).into_any()
                 }
             }

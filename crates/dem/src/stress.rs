@@ -16,6 +16,116 @@ fn granular_force(law: &GranularParams, c: &Contact, h: &[f64; WIDTH]) -> Vector
     respond(law, c, &mut h, 0.0, false).force
 }
 
+/// The linear law's force on the first body, −F_n n + F_t, the spring as stored, and
+/// F_n.
+fn linear_force(
+    pp: &PairParams,
+    m_eff: f64,
+    n: Vector,
+    overlap: f64,
+    v: Vector,
+    spin: AngVector,
+    xi: Tangent,
+) -> (Vector, f64) {
+    let f = contact_law(pp, m_eff, n, overlap, v, spin, xi, 0.0);
+    (
+        -f.normal * n + math::tangent_vector(f.tangential, n),
+        f.normal,
+    )
+}
+
+/// One touching pair of particles as the contact law sees it now.
+#[derive(Clone, Copy, Debug)]
+pub struct PairForce {
+    /// Storage index of the first particle.
+    pub i: usize,
+    /// Storage index of the second.
+    pub j: usize,
+    /// Branch vector from i's centre to j's (minimum image) (m).
+    pub branch: Vector,
+    /// Unit normal from i towards j.
+    pub normal: Vector,
+    /// Overlap (m).
+    pub overlap: f64,
+    /// The force on i (j gets the opposite).
+    pub force: Vector,
+    /// The normal force F_n (positive pushes apart), damping included.
+    pub push: f64,
+}
+
+impl PairForce {
+    /// The normal part of the force on i, −F_n n.
+    pub fn normal_force(&self) -> Vector {
+        -self.push * self.normal
+    }
+
+    /// The tangential part of the force on i.
+    pub fn tangential_force(&self) -> Vector {
+        self.force - self.normal_force()
+    }
+}
+
+/// Calls `f` for each touching pair of particles (walls left out), the force evaluated
+/// by the set-up's contact law (the linear law's, or the granular law's) with the
+/// present velocities and the stored tangential history, not advanced.
+pub fn each_pair_force(setup: &Setup, s: &State, mut f: impl FnMut(PairForce)) {
+    let p = &s.particles;
+    let list = &s.contacts;
+    let n = p.len();
+    if list.row.len() != n + 1 {
+        return;
+    }
+    for i in 0..n {
+        for e in list.row[i] as usize..list.row[i + 1] as usize {
+            let j = list.nbr[e] as usize;
+            let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
+            let dist = d.length();
+            let overlap = p.radius[i] + p.radius[j] - dist;
+            if overlap <= 0.0 || dist == 0.0 {
+                continue;
+            }
+            let nv = d / dist;
+            let (mi, mj) = (p.material[i] as usize, p.material[j] as usize);
+            let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
+            let spin = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
+            let (force, push) = match (&setup.granular, list.granular(e)) {
+                (Some(t), Some(h)) => {
+                    let mut h = h;
+                    let c = Contact {
+                        n: nv,
+                        overlap,
+                        r_eff: p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]),
+                        m_eff,
+                        v: p.vel[i] - p.vel[j],
+                        spin,
+                        w_rel: p.omega[i] - p.omega[j],
+                    };
+                    let r = respond(t.get(mi, mj), &c, &mut h, 0.0, false);
+                    (r.force, r.normal)
+                }
+                _ => linear_force(
+                    setup.pairs.get(mi, mj),
+                    m_eff,
+                    nv,
+                    overlap,
+                    p.vel[i] - p.vel[j],
+                    spin,
+                    list.shear[e],
+                ),
+            };
+            f(PairForce {
+                i,
+                j,
+                branch: d,
+                normal: nv,
+                overlap,
+                force,
+                push,
+            });
+        }
+    }
+}
+
 /// Each particle's contact stress σ_i = (1/V_i) Σ_c a_c ⊗ f_c (Pa, tension positive; V_i
 /// the disk's area πr_i² in 2D, the stress per unit thickness, the sphere's volume in 3D): `a_c` from the centre to the middle of the overlap, `f_c` the force
 /// on the particle, over its pair and wall contacts. The forces are the contact law's
@@ -28,60 +138,11 @@ pub fn particle_stress(setup: &Setup, s: &State) -> Vec<Tensor> {
     let list = &s.contacts;
     let n = p.len();
     let mut sum = vec![Tensor::ZERO; n];
-    let force = |pp: &PairParams,
-                 m_eff: f64,
-                 n: Vector,
-                 overlap: f64,
-                 v: Vector,
-                 spin: AngVector,
-                 xi: Tangent| {
-        let f = contact_law(pp, m_eff, n, overlap, v, spin, xi, 0.0);
-        // On the first body: −F_n n + F_t.
-        -f.normal * n + math::tangent_vector(f.tangential, n)
-    };
-    if list.row.len() == n + 1 {
-        for i in 0..n {
-            for e in list.row[i] as usize..list.row[i + 1] as usize {
-                let j = list.nbr[e] as usize;
-                let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
-                let dist = d.length();
-                let overlap = p.radius[i] + p.radius[j] - dist;
-                if overlap <= 0.0 || dist == 0.0 {
-                    continue;
-                }
-                let nv = d / dist;
-                let (mi, mj) = (p.material[i] as usize, p.material[j] as usize);
-                let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
-                let spin = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
-                let f = match (&setup.granular, list.granular(e)) {
-                    (Some(t), Some(h)) => granular_force(
-                        t.get(mi, mj),
-                        &Contact {
-                            n: nv,
-                            overlap,
-                            r_eff: p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]),
-                            m_eff,
-                            v: p.vel[i] - p.vel[j],
-                            spin,
-                            w_rel: p.omega[i] - p.omega[j],
-                        },
-                        &h,
-                    ),
-                    _ => force(
-                        setup.pairs.get(mi, mj),
-                        m_eff,
-                        nv,
-                        overlap,
-                        p.vel[i] - p.vel[j],
-                        spin,
-                        list.shear[e],
-                    ),
-                };
-                sum[i] += outer((p.radius[i] - 0.5 * overlap) * nv, f);
-                sum[j] += outer(-(p.radius[j] - 0.5 * overlap) * nv, -f);
-            }
-        }
-    }
+    each_pair_force(setup, s, |c| {
+        let (i, j, nv, overlap) = (c.i, c.j, c.normal, c.overlap);
+        sum[i] += outer((p.radius[i] - 0.5 * overlap) * nv, c.force);
+        sum[j] += outer(-(p.radius[j] - 0.5 * overlap) * nv, -c.force);
+    });
     let nw = setup.walls.len();
     for i in 0..n {
         for (w, wall) in setup.walls.iter().enumerate() {
@@ -112,15 +173,18 @@ pub fn particle_stress(setup: &Setup, s: &State) -> Vec<Tensor> {
                     },
                     h,
                 ),
-                _ => force(
-                    setup.wall_pair(w, mi),
-                    p.mass(i),
-                    t.normal,
-                    overlap,
-                    p.vel[i],
-                    p.radius[i] * p.omega[i],
-                    xi,
-                ),
+                _ => {
+                    linear_force(
+                        setup.wall_pair(w, mi),
+                        p.mass(i),
+                        t.normal,
+                        overlap,
+                        p.vel[i],
+                        p.radius[i] * p.omega[i],
+                        xi,
+                    )
+                    .0
+                }
             };
             sum[i] += outer((t.distance + 0.5 * overlap) * t.normal, f);
         }

@@ -125,3 +125,26 @@ pub fn load(path: &Path, scenario_text: &str) -> Result<(Progress, Vec<u8>), Str
         .ok_or_else(|| format!("{name}: checkpoint run progress unreadable"))?;
     Ok((progress, body[28 + meta_len..].to_vec()))
 }
+
+/// Reads the DEM checkpoint in the run directory `dir` for `scenario_text`: the engine's
+/// state through `read` (2D or 3D), whose wall count `n_walls` gives, refused unless it
+/// has the scenario's `walls`.
+pub fn load_dem<S>(
+    dir: &Path,
+    scenario_text: &str,
+    walls: usize,
+    read: impl FnOnce(&mut &[u8]) -> Result<S, grains_core::snapshot::SnapshotError>,
+    n_walls: impl Fn(&S) -> usize,
+) -> Result<Resumed<S>, String> {
+    let file = dir.join(FILE);
+    let (progress, bytes) = load(&file, scenario_text)?;
+    let name = file.display();
+    let state = read(&mut bytes.as_slice()).map_err(|e| format!("{name}: {e}"))?;
+    if n_walls(&state) != walls {
+        return Err(format!(
+            "{name}: the checkpoint has {} walls, the scenario {walls}",
+            n_walls(&state)
+        ));
+    }
+    Ok(Resumed { progress, state })
+}

@@ -23,7 +23,8 @@ pub struct OutputSpec {
     #[serde(default)]
     pub checkpoint_every: Option<u64>,
     /// Also write each frame as a LAMMPS text dump (`frames/particles_NNNNN.dump`,
-    /// columns `id type x y z radius vx vy vz omegaz fx fy fz`) for OVITO (DEM particles).
+    /// columns `id type x y z radius vx vy vz omegaz fx fy fz` in 2D, `id type x y z vx
+    /// vy vz omegax omegay omegaz radius fx fy fz` in 3D) for OVITO (DEM particles).
     #[serde(default)]
     pub lammps_dump: bool,
     /// Also write the grid (VTU) with every frame (MPM; default true).

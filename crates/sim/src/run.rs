@@ -129,7 +129,7 @@ impl AnyRun {
 pub fn open(src: &Source, opts: &mut RunOptions) -> Result<AnyRun, RunError> {
     Ok(match scenario::parse(src).map_err(RunError::Input)? {
         Scenario::Dem(s) => AnyRun::Dem(Box::new(dem::run::open(&s, src, opts, None)?)),
-        Scenario::Dem3(s) => AnyRun::Dem3(Box::new(dem3d::run::open(&s, src, opts)?)),
+        Scenario::Dem3(s) => AnyRun::Dem3(Box::new(dem3d::run::open(&s, src, opts, None)?)),
         Scenario::Mpm(s) => AnyRun::Mpm(Box::new(mpm::run::open(&s, src, opts)?)),
         Scenario::FemDem(s) => AnyRun::FemDem(Box::new(blast::run::open(&s, src, opts, None)?)),
     })
@@ -170,10 +170,12 @@ pub fn open_resumed(dir: &Path, opts: &mut RunOptions) -> Result<(AnyRun, Source
             let live = blast::run::open(&s, &src, opts, Some(saved))?;
             Ok((AnyRun::FemDem(Box::new(live)), src))
         }
-        Scenario::Dem3(_) => Err(RunError::Input(format!(
-            "{}: resume is not yet supported for 3D (dim = 3) runs; run it again with `grains run`",
-            dir.display()
-        ))),
+        Scenario::Dem3(s) => {
+            let saved = dem3d::run::load_checkpoint(&s, &src, dir)?;
+            let src = from_base(src, saved.base());
+            let live = dem3d::run::open(&s, &src, opts, Some(saved))?;
+            Ok((AnyRun::Dem3(Box::new(live)), src))
+        }
         other => Err(RunError::Input(format!(
             "{}: resume is supported for engine = \"dem\" and \"fem_dem\" runs, this one is engine = \"{}\"",
             dir.display(),
@@ -210,6 +212,42 @@ pub fn fresh_out(out: &Path, text: &str) -> anyhow::Result<()> {
             .with_context(|| format!("cannot clear {}", plots.display()))?;
     }
     Ok(())
+}
+
+/// The history and frame recorders of a run and the loop's counters: started in a fresh
+/// output directory `out` (the scenario `text` copied in), or reopened where the
+/// checkpoint whose counters are `resumed` left them.
+pub fn recorders<S: crate::history::Recorded + crate::frames::Framed>(
+    out: &Path,
+    text: &str,
+    sim: &mut S,
+    plan: &driver::Plan,
+    resumed: Option<&driver::Counters>,
+) -> Result<
+    (
+        crate::history::HistoryRecorder,
+        crate::frames::FrameRecorder,
+        driver::Counters,
+    ),
+    RunError,
+> {
+    use crate::frames::FrameRecorder;
+    use crate::history::HistoryRecorder;
+    Ok(match resumed {
+        None => {
+            fresh_out(out, text)?;
+            let history = HistoryRecorder::create(out, sim)?;
+            let frames = FrameRecorder::create(out, sim).map_err(anyhow::Error::from)?;
+            (history, frames, driver::Counters::fresh(plan))
+        }
+        Some(c) => {
+            let clock = sim.clock();
+            let history = HistoryRecorder::reopen(out, sim, clock.step)?;
+            let frames = FrameRecorder::resume(out, sim, clock.time, c.frames)
+                .map_err(anyhow::Error::from)?;
+            (history, frames, c.clone())
+        }
+    })
 }
 
 /// The parts of a summary every engine fills the same way.

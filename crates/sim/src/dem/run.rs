@@ -9,13 +9,11 @@ use super::scenario::Scenario;
 use super::{plots, Dem, CAPABILITIES};
 use crate::checkpoint;
 use crate::dispersal::DispersalObserver;
-use crate::driver::{
-    restore_observers, Counters, Every, Observer, Outcome, Report, Status, Stepper,
-};
+use crate::driver::{restore_observers, Every, Observer, Outcome, Report, Status, Stepper};
 use crate::frames::{FrameRecorder, Snapshots};
 use crate::history::HistoryRecorder;
 use crate::run::{
-    finish, fresh_out, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions,
+    finish, recorders, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions,
 };
 use crate::source::Source;
 use grains_core::history::History;
@@ -27,19 +25,14 @@ pub type Resume = checkpoint::Resumed<State>;
 
 /// Reads `dir/checkpoint.bin` for the scenario copy in `dir`.
 pub fn load_checkpoint(s: &Scenario, src: &Source, dir: &Path) -> Result<Resume, RunError> {
-    let (progress, bytes) =
-        checkpoint::load(&dir.join(checkpoint::FILE), &src.text).map_err(RunError::Input)?;
-    let name = dir.join(checkpoint::FILE).display().to_string();
-    let state = grains_dem::checkpoint::read(&mut bytes.as_slice(), 1 << 31)
-        .map_err(|e| RunError::Input(format!("{name}: {e}")))?;
-    let walls = s.walls.len();
-    if state.contacts.n_walls != walls {
-        return Err(RunError::Input(format!(
-            "{name}: the checkpoint has {} walls, the scenario {walls}",
-            state.contacts.n_walls
-        )));
-    }
-    Ok(Resume { progress, state })
+    checkpoint::load_dem(
+        dir,
+        &src.text,
+        s.walls.len(),
+        |r| grains_dem::checkpoint::read(r, 1 << 31),
+        |state| state.contacts.n_walls,
+    )
+    .map_err(RunError::Input)
 }
 
 /// A DEM run in progress: the simulation, the loop and every observer of `grains run`,
@@ -135,21 +128,13 @@ pub fn open(
         Every::Steps(k) => k,
         Every::Time(_) => 1,
     };
-    let (history, frames, counters) = match &resume {
-        None => {
-            fresh_out(&out, &src.text)?;
-            let history = HistoryRecorder::create(&out, &mut sim)?;
-            let frames = FrameRecorder::create(&out, &sim).map_err(anyhow::Error::from)?;
-            (history, frames, Counters::fresh(&plan))
-        }
-        Some(r) => {
-            let c = r.progress.counters.clone();
-            let history = HistoryRecorder::reopen(&out, &sim, sim.state.step)?;
-            let frames = FrameRecorder::resume(&out, &sim, sim.state.time, c.frames)
-                .map_err(anyhow::Error::from)?;
-            (history, frames, c)
-        }
-    };
+    let (history, frames, counters) = recorders(
+        &out,
+        &src.text,
+        &mut sim,
+        &plan,
+        resume.as_ref().map(|r| &r.progress.counters),
+    )?;
     let checks = CheckObserver::new(&sim, &s.checks);
     let rest = s.run.stop_kinetic_ratio.map(|ratio| {
         let hold = s.run.stop_rest_time.unwrap_or(20.0 * every as f64 * sim.dt);

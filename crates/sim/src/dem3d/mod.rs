@@ -15,11 +15,12 @@ pub mod silo;
 pub mod walls;
 
 use crate::driver::{Clock, ParticleView, Simulation};
+use crate::forces::{Hook, Outside};
 use crate::history::Recorded;
 use crate::output::Capabilities;
 use grains_core::input::InputError;
 use grains_dem3d::diagnostics::{self, Diagnostics};
-use grains_dem3d::{step, Setup, State};
+use grains_dem3d::{step, step_with, Particles, Setup, State};
 use std::borrow::Cow;
 
 /// What a 3D DEM run writes, and its defaults.
@@ -27,8 +28,8 @@ pub const CAPABILITIES: Capabilities = Capabilities {
     engine: "dem",
     frames: 50,
     history: 2000,
-    checkpoints: false,
-    lammps_dump: false,
+    checkpoints: true,
+    lammps_dump: true,
     grid: false,
 };
 
@@ -40,15 +41,15 @@ pub struct Dem3 {
     pub state: State,
     /// Time step (s).
     pub dt: f64,
+    /// Also write a LAMMPS dump with every frame.
+    pub lammps_dump: bool,
+    /// Forces from outside the particle system (none in a scenario run).
+    pub outside: Outside<Particles>,
 }
 
 impl Dem3 {
     /// Starts a run, refusing spheres that overlap beyond the runaway limit at the start.
-    pub fn new(
-        setup: Setup,
-        particles: grains_dem3d::Particles,
-        dt: f64,
-    ) -> Result<Self, InputError> {
+    pub fn new(setup: Setup, particles: Particles, dt: f64) -> Result<Self, InputError> {
         let state = State::new(&setup, particles);
         if let Some((i, j, ratio)) = diagnostics::deepest_overlap(&setup, &state) {
             let limit = crate::dem::RUNAWAY_OVERLAP;
@@ -60,7 +61,25 @@ impl Dem3 {
                 ));
             }
         }
-        Ok(Dem3 { setup, state, dt })
+        Ok(Self::resumed(setup, state, dt))
+    }
+
+    /// Continues from a checkpointed state.
+    pub fn resumed(mut setup: Setup, state: State, dt: f64) -> Self {
+        // A translating wall is where the straight run's steps put it: the same
+        // additions replayed give the same bits.
+        for w in &mut setup.walls {
+            for _ in 0..state.step {
+                w.advance(dt);
+            }
+        }
+        Dem3 {
+            setup,
+            state,
+            dt,
+            lammps_dump: false,
+            outside: Outside::default(),
+        }
     }
 }
 
@@ -79,7 +98,15 @@ impl Simulation for Dem3 {
         for w in &mut self.setup.walls {
             w.advance(self.dt);
         }
-        step(&self.setup, &mut self.state, self.dt);
+        if self.outside.is_empty() {
+            step(&self.setup, &mut self.state, self.dt);
+        } else {
+            let mut hook = Hook {
+                outside: &mut self.outside,
+                time: self.state.time + self.dt,
+            };
+            step_with(&self.setup, &mut self.state, self.dt, &mut hook);
+        }
         Ok(())
     }
 
@@ -118,6 +145,12 @@ impl Simulation for Dem3 {
 
     fn state_hash(&self) -> u64 {
         diagnostics::state_hash(&self.state)
+    }
+
+    fn checkpoint(&self) -> Option<Vec<u8>> {
+        let mut bytes = Vec::with_capacity(400 * self.state.particles.len());
+        grains_dem3d::checkpoint::write(&self.state, &mut bytes).ok()?;
+        Some(bytes)
     }
 }
 

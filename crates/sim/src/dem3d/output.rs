@@ -1,15 +1,17 @@
 //! What a 3D run writes besides its history: ParaView frames of the spheres (3D points,
-//! vector velocity, ω and force, the 3 × 3 contact stress), and the plots: the history's
+//! vector velocity, ω and force, the 3 × 3 contact stress), optionally a LAMMPS dump
+//! beside each frame, and the plots: the history's
 //! (as in 2D) and the final spheres seen from the side (x–z) and from above (x–y), with
 //! the walls drawn.
 
 use super::Dem3;
 use crate::frames::Framed;
 use glam::{DVec2, DVec3};
+use grains_core::atomic::write_atomic_with;
 use grains_core::plot::{time_label, Outline, ParticleMap};
 use grains_core::vtk::{ArrayData, DataArray, PolyData};
 use grains_dem3d::{diagnostics, Setup, State, WallShape};
-use std::io;
+use std::io::{self, Write};
 use std::path::Path;
 
 fn flat(v: &[DVec3]) -> Vec<f64> {
@@ -54,8 +56,60 @@ impl Framed for Dem3 {
     fn write_frame(&self, dir: &Path, k: usize) -> io::Result<Vec<(&'static str, String)>> {
         let name = format!("particles_{k:05}.vtp");
         particles_polydata(&self.setup, &self.state).write(&dir.join(&name))?;
+        if self.lammps_dump {
+            let dump = dir.join(format!("particles_{k:05}.dump"));
+            write_atomic_with(&dump, |w| lammps_dump(w, &self.setup, &self.state))?;
+        }
         Ok(vec![("particles", name)])
     }
+}
+
+/// The columns of the 3D dump, as LAMMPS's `dump custom` names them.
+pub const DUMP_COLUMNS: &str = "id type x y z vx vy vz omegax omegay omegaz radius fx fy fz";
+
+/// A LAMMPS text dump (`dump custom ... id type x y z vx vy vz omegax omegay omegaz
+/// radius fx fy fz`) of the spheres, in id order, which OVITO reads as a file sequence.
+/// Ids and types start at 1 as in LAMMPS (grains id + 1, material index + 1).
+pub fn lammps_dump(w: &mut dyn Write, setup: &Setup, s: &State) -> io::Result<()> {
+    let p = &s.particles;
+    let d = &setup.domain;
+    writeln!(
+        w,
+        "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}",
+        s.step,
+        p.len()
+    )?;
+    let bound = |a: usize| if d.periodic[a] { "pp" } else { "ff" };
+    writeln!(w, "ITEM: BOX BOUNDS {} {} {}", bound(0), bound(1), bound(2))?;
+    for a in 0..3 {
+        writeln!(w, "{:e} {:e}", d.lo[a], d.hi[a])?;
+    }
+    writeln!(w, "ITEM: ATOMS {DUMP_COLUMNS}")?;
+    let mut order: Vec<usize> = (0..p.len()).collect();
+    order.sort_unstable_by_key(|&i| p.id[i]);
+    for i in order {
+        let (x, v, o, f) = (p.pos[i], p.vel[i], p.omega[i], p.force[i]);
+        writeln!(
+            w,
+            "{} {} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e}",
+            p.id[i] + 1,
+            p.material[i] + 1,
+            x.x,
+            x.y,
+            x.z,
+            v.x,
+            v.y,
+            v.z,
+            o.x,
+            o.y,
+            o.z,
+            p.radius[i],
+            f.x,
+            f.y,
+            f.z
+        )?;
+    }
+    Ok(())
 }
 
 /// A view: the two axes shown (indices into x, y, z) and the depth axis, looked at

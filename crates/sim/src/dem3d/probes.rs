@@ -19,11 +19,12 @@ use grains_core::checks::Check;
 use grains_dem3d::diagnostics::index_of;
 use grains_dem3d::diagnostics::Diagnostics;
 use grains_dem3d::{PairTable, Setup, State};
+use serde::{Deserialize, Serialize};
 
 /// t_c v / δ_max of an undamped Hertz impact: 2 ∫₀¹ (1 − x^{5/2})^{−1/2} dx.
 pub const HERTZ_TIME: f64 = 2.943_275_184_324_705;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 enum Phase {
     Before,
     In,
@@ -31,7 +32,7 @@ enum Phase {
 }
 
 /// One collision, as it went.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 struct Impact {
     phase: Phase,
     gap: f64,
@@ -70,7 +71,7 @@ fn geometry(setup: &Setup, s: &State, i: usize, partner: Partner) -> Option<(f64
     }
 }
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
 enum Partner {
     Particle(u32),
     Wall(usize),
@@ -220,6 +221,25 @@ impl Observer<Dem3> for Probes {
             d.sample(sim);
         }
         Ok(Flow::Continue)
+    }
+
+    /// The collisions watched so far (a checkpoint's TOML has no null: a slot without
+    /// one is an empty list).
+    fn save(&self) -> Option<(&'static str, toml::Value)> {
+        let slots: Vec<Vec<_>> = self.impacts.iter().map(|s| s.iter().collect()).collect();
+        toml::Value::try_from(slots).ok().map(|v| ("probes", v))
+    }
+
+    fn restore(&mut self, state: toml::Value) -> anyhow::Result<()> {
+        let slots: Vec<Vec<(u32, Partner, Impact)>> = state.try_into()?;
+        anyhow::ensure!(
+            slots.len() == self.impacts.len(),
+            "{} collision checks saved, the scenario has {}",
+            slots.len(),
+            self.impacts.len()
+        );
+        self.impacts = slots.into_iter().map(|s| s.into_iter().next()).collect();
+        Ok(())
     }
 
     fn on_end(&mut self, sim: &Dem3, _status: &Status, report: &mut Report) -> anyhow::Result<()> {

@@ -1,21 +1,41 @@
 //! A 3D DEM run from its scenario to its summary, through the driver every engine uses,
-//! and what `grains check` prints for it.
+//! and what `grains check` prints for it; a run continued from a checkpoint goes on
+//! exactly as if it had never stopped.
 
 use super::assemble::{assemble, Assembled};
 use super::probes::Probes;
 use super::scenario::{Scenario, SphereSource};
 use super::{Dem3, CAPABILITIES};
 use crate::check::{Derived, Line};
+use crate::checkpoint;
 use crate::dem::rest::RestDetector;
-use crate::driver::{Counters, Every, Flow, Observer, Outcome, Stepper};
+use crate::driver::{restore_observers, Every, Flow, Observer, Outcome, Status, Stepper};
 use crate::estimate::{rate, Estimate};
 use crate::frames::FrameRecorder;
 use crate::history::HistoryRecorder;
-use crate::run::{finish, fresh_out, summary, Costs, Finished, Live, RunError, RunOptions};
+use crate::run::{
+    finish, recorders, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions,
+};
 use crate::source::Source;
 use grains_core::history::History;
 use grains_dem3d::diagnostics::Diagnostics;
-use std::path::PathBuf;
+use grains_dem3d::State;
+use std::path::{Path, PathBuf};
+
+/// A checkpoint read back: the run loop's progress and the engine state.
+pub type Resume = checkpoint::Resumed<State>;
+
+/// Reads `dir/checkpoint.bin` for the scenario copy in `dir`.
+pub fn load_checkpoint(s: &Scenario, src: &Source, dir: &Path) -> Result<Resume, RunError> {
+    checkpoint::load_dem(
+        dir,
+        &src.text,
+        s.walls.len(),
+        |r| grains_dem3d::checkpoint::read(r, 1 << 31),
+        |state| state.contacts.n_walls,
+    )
+    .map_err(RunError::Input)
+}
 
 /// Bytes per sphere: state (≈ 170 B), neighbour list with granular history (≈ 6
 /// entries × 130 B), bookkeeping, and one wall spring and history per wall.
@@ -92,8 +112,14 @@ pub struct Dem3Run {
     dt_critical: f64,
 }
 
-/// Prepares the run of `s` (read from `src`) into `opts.out`.
-pub fn open(s: &Scenario, src: &Source, opts: &mut RunOptions) -> Result<Dem3Run, RunError> {
+/// Prepares the run of `s` (read from `src`) into `opts.out`, or its continuation from
+/// `resume`.
+pub fn open(
+    s: &Scenario,
+    src: &Source,
+    opts: &mut RunOptions,
+    resume: Option<Resume>,
+) -> Result<Dem3Run, RunError> {
     let input = |e: grains_core::input::InputError| RunError::Input(format!("{}: {e}", src.origin));
     fits(s, src, opts.threads).map_err(RunError::Input)?;
     let Assembled {
@@ -104,11 +130,20 @@ pub fn open(s: &Scenario, src: &Source, opts: &mut RunOptions) -> Result<Dem3Run
         steps,
         restitution,
     } = assemble(s).map_err(input)?;
-    let mut sim = Dem3::new(setup, particles, dt).map_err(input)?;
+    let mut sim = match &resume {
+        None => Dem3::new(setup, particles, dt).map_err(input)?,
+        Some(r) => {
+            grains_dem3d::checkpoint::fits(&r.state, &setup)
+                .map_err(|e| RunError::Input(format!("{}: checkpoint: {e}", opts.out.display())))?;
+            Dem3::resumed(setup, r.state.clone(), dt)
+        }
+    };
+    sim.lammps_dump = s.output.lammps_dump;
     let plan = s.output.plan_by_steps(&CAPABILITIES, steps);
     let out = opts.out.clone();
     opts.progress.announce(&format!(
-        "{} (dem, 3D) — {} spheres, dt = {:.3e} s, {} steps, {} threads → {}",
+        "{}{} (dem, 3D) — {} spheres, dt = {:.3e} s, {} steps, {} threads → {}",
+        if resume.is_some() { "resuming " } else { "" },
         s.name,
         sim.state.particles.len(),
         dt,
@@ -125,9 +160,13 @@ pub fn open(s: &Scenario, src: &Source, opts: &mut RunOptions) -> Result<Dem3Run
     if let Some(w) = e.warning() {
         opts.progress.announce(&format!("warning: {w}"));
     }
-    fresh_out(&out, &src.text)?;
-    let mut history = HistoryRecorder::create(&out, &mut sim)?;
-    let mut frames = FrameRecorder::create(&out, &sim).map_err(anyhow::Error::from)?;
+    let (mut history, mut frames, counters) = recorders(
+        &out,
+        &src.text,
+        &mut sim,
+        &plan,
+        resume.as_ref().map(|r| &r.progress.counters),
+    )?;
     let mut probes = Probes::new(&sim, &s.checks, restitution);
     let mut rest = s.run.stop_kinetic_ratio.map(|ratio| {
         let p = &sim.state.particles;
@@ -145,7 +184,10 @@ pub fn open(s: &Scenario, src: &Source, opts: &mut RunOptions) -> Result<Dem3Run
         let mut observers: Vec<&mut dyn Observer<Dem3>> =
             vec![&mut history, &mut frames, &mut probes];
         observers.extend(rest.as_mut().map(|r| r as &mut dyn Observer<Dem3>));
-        Stepper::start(&sim, &mut observers, plan.clone(), Counters::fresh(&plan))?
+        if let Some(r) = &resume {
+            restore_observers(&mut observers, &r.progress.observers)?;
+        }
+        Stepper::start(&sim, &mut observers, plan, counters)?
     };
     Ok(Dem3Run {
         sim,
@@ -191,7 +233,10 @@ impl Live for Dem3Run {
             threads,
             frames: self.frames.count(),
         };
-        let sum = summary(&self.name, "dem", sim, &outcome, costs, counts);
+        let mut sum = summary(&self.name, "dem", sim, &outcome, costs, counts);
+        if matches!(outcome.status, Status::Paused | Status::Interrupted) {
+            sum.message = Some(resume_hint(outcome.clock.step, out));
+        }
         finish(sum, outcome.status, out)
     }
 }
@@ -199,5 +244,14 @@ impl Live for Dem3Run {
 impl Observer<Dem3> for RestDetector {
     fn on_sample(&mut self, sim: &Dem3, d: &Diagnostics) -> anyhow::Result<Flow> {
         Ok(self.judge(sim.state.time, d.kinetic()))
+    }
+
+    fn save(&self) -> Option<(&'static str, toml::Value)> {
+        toml::Value::try_from(self).ok().map(|v| ("rest", v))
+    }
+
+    fn restore(&mut self, state: toml::Value) -> anyhow::Result<()> {
+        *self = state.try_into()?;
+        Ok(())
     }
 }

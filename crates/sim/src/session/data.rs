@@ -1,31 +1,50 @@
 //! What a [`super::Session`] hands out: copies of the particles in id order, the
 //! contacts, an MPM run's points and a FEM–DEM run's charge, and borrowed fields for
-//! zero-copy views.
+//! zero-copy views. 2D runs hand out 2-vectors and scalar spins (the defaults of the
+//! generic types), 3D runs 3-vectors for both.
 
-use glam::DVec2;
-use grains_dem::forces::contact_law;
+use glam::{DVec2, DVec3};
 use grains_dem::{Particles, Setup, State};
 
-/// Particles in id order (copies). Fields an engine does not have are `None` (MPM
-/// points have no spin, and their forces live on the grid).
-#[derive(Clone, Debug, Default)]
-pub struct ParticleData {
+/// Particles in id order (copies), vectors `V` and spins `A` (2D: `DVec2` and `f64`;
+/// 3D: [`ParticleData3`]). Fields an engine does not have are `None` (MPM points have
+/// no spin, and their forces live on the grid).
+#[derive(Clone, Debug)]
+pub struct ParticleData<V = DVec2, A = f64> {
     /// Ids, ascending.
     pub id: Vec<u32>,
     /// Positions (m).
-    pub pos: Vec<DVec2>,
+    pub pos: Vec<V>,
     /// Velocities (m/s).
-    pub vel: Vec<DVec2>,
+    pub vel: Vec<V>,
     /// Angular velocities (rad/s).
-    pub omega: Option<Vec<f64>>,
+    pub omega: Option<Vec<A>>,
     /// Radii (m); for material points, the radius of a disk of the point's volume.
     pub radius: Vec<f64>,
-    /// Masses (kg/m).
+    /// Masses (2D: kg/m; 3D: kg).
     pub mass: Vec<f64>,
-    /// Forces at the last evaluation (N/m).
-    pub force: Option<Vec<DVec2>>,
-    /// Torques at the last evaluation (N).
-    pub torque: Option<Vec<f64>>,
+    /// Forces at the last evaluation (2D: N/m; 3D: N).
+    pub force: Option<Vec<V>>,
+    /// Torques at the last evaluation (2D: N; 3D: N m).
+    pub torque: Option<Vec<A>>,
+}
+
+/// The spheres of a 3D run in id order.
+pub type ParticleData3 = ParticleData<DVec3, DVec3>;
+
+impl<V, A> Default for ParticleData<V, A> {
+    fn default() -> Self {
+        ParticleData {
+            id: Vec::new(),
+            pos: Vec::new(),
+            vel: Vec::new(),
+            omega: None,
+            radius: Vec::new(),
+            mass: Vec::new(),
+            force: None,
+            torque: None,
+        }
+    }
 }
 
 /// The storage index of each id, in id order: `order[k]` holds the particle with the
@@ -140,9 +159,11 @@ impl<T> Slots<T> {
     }
 }
 
-impl ParticleData {
-    /// DEM particles (a DEM run's, or a FEM–DEM run's ring) in id order.
-    pub fn of_dem(p: &Particles) -> Self {
+/// DEM particles of either dimension (the engines share their field names) in id
+/// order.
+macro_rules! dem_particles {
+    ($p:expr) => {{
+        let p = $p;
         let ids = &p.id;
         let o = IdOrder::of(ids);
         ParticleData {
@@ -155,6 +176,20 @@ impl ParticleData {
             force: Some(o.arrange(ids, |i| p.force[i])),
             torque: Some(o.arrange(ids, |i| p.torque[i])),
         }
+    }};
+}
+
+impl ParticleData3 {
+    /// The spheres of a 3D DEM run in id order.
+    pub fn of_dem3(p: &grains_dem3d::Particles) -> Self {
+        dem_particles!(p)
+    }
+}
+
+impl ParticleData {
+    /// DEM particles (a DEM run's, or a FEM–DEM run's ring) in id order.
+    pub fn of_dem(p: &Particles) -> Self {
+        dem_particles!(p)
     }
 
     /// Any engine's particles as the driver sees them, in id order.
@@ -173,58 +208,67 @@ impl ParticleData {
 }
 
 /// The touching pairs of a DEM state (walls left out), one entry per pair, forces on the
-/// first particle of the pair (the second gets their opposite).
-#[derive(Clone, Debug, Default)]
-pub struct Contacts {
+/// first particle of the pair (the second gets their opposite); vectors `V` (2D:
+/// `DVec2`, 3D: `DVec3`).
+#[derive(Clone, Debug)]
+pub struct Contacts<V = DVec2> {
     /// Id of the first particle.
     pub i: Vec<u32>,
     /// Id of the second.
     pub j: Vec<u32>,
     /// Overlap (m).
     pub overlap: Vec<f64>,
-    /// Normal force on i (N/m).
-    pub normal_force: Vec<DVec2>,
-    /// Tangential force on i (N/m).
-    pub tangential_force: Vec<DVec2>,
+    /// Normal force on i (2D: N/m; 3D: N).
+    pub normal_force: Vec<V>,
+    /// Tangential force on i (2D: N/m; 3D: N).
+    pub tangential_force: Vec<V>,
     /// Branch vector from i's centre to j's (minimum image on periodic axes) (m).
-    pub branch: Vec<DVec2>,
+    pub branch: Vec<V>,
+}
+
+impl<V> Default for Contacts<V> {
+    fn default() -> Self {
+        Contacts {
+            i: Vec::new(),
+            j: Vec::new(),
+            overlap: Vec::new(),
+            normal_force: Vec::new(),
+            tangential_force: Vec::new(),
+            branch: Vec::new(),
+        }
+    }
+}
+
+/// The touching pairs of a DEM state of either dimension, through the engine's
+/// `stress::each_pair_force` (the set-up's contact law, springs as stored).
+macro_rules! touching_pairs {
+    ($engine:ident, $setup:expr, $state:expr) => {{
+        let s = $state;
+        let p = &s.particles;
+        let mut c = Contacts::default();
+        $engine::stress::each_pair_force($setup, s, |f| {
+            c.i.push(p.id[f.i]);
+            c.j.push(p.id[f.j]);
+            c.overlap.push(f.overlap);
+            c.normal_force.push(f.normal_force());
+            c.tangential_force.push(f.tangential_force());
+            c.branch.push(f.branch);
+        });
+        c
+    }};
 }
 
 impl Contacts {
-    /// The touching pairs of `s`, forces evaluated by the contact law with the stored
-    /// tangential springs (not advanced), as the particle stress evaluates them.
+    /// The touching pairs of a 2D state `s`.
     pub fn of(setup: &Setup, s: &State) -> Self {
-        let (p, list) = (&s.particles, &s.contacts);
-        let mut c = Contacts::default();
-        if list.row.len() != p.len() + 1 {
-            return c;
-        }
-        for i in 0..p.len() {
-            for e in list.row[i] as usize..list.row[i + 1] as usize {
-                let j = list.nbr[e] as usize;
-                let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
-                let dist = d.length();
-                let overlap = p.radius[i] + p.radius[j] - dist;
-                if overlap <= 0.0 || dist == 0.0 {
-                    continue;
-                }
-                let n = d / dist;
-                let pp = setup
-                    .pairs
-                    .get(p.material[i] as usize, p.material[j] as usize);
-                let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
-                let spin = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
-                let v = p.vel[i] - p.vel[j];
-                let f = contact_law(pp, m_eff, n, overlap, v, spin, list.shear[e], 0.0);
-                c.i.push(p.id[i]);
-                c.j.push(p.id[j]);
-                c.overlap.push(overlap);
-                c.normal_force.push(-f.normal * n);
-                c.tangential_force.push(f.tangential * n.perp());
-                c.branch.push(d);
-            }
-        }
-        c
+        touching_pairs!(grains_dem, setup, s)
+    }
+}
+
+impl Contacts<DVec3> {
+    /// The touching pairs of a 3D state `s`.
+    pub fn of3(setup: &grains_dem3d::Setup, s: &grains_dem3d::State) -> Self {
+        touching_pairs!(grains_dem3d, setup, s)
     }
 }
 
@@ -302,6 +346,8 @@ pub enum Field<'a> {
     Scalar(&'a [f64]),
     /// A vector per particle.
     Vector(&'a [DVec2]),
+    /// A 3-vector per particle (3D runs' vectors and spins).
+    Vector3(&'a [DVec3]),
 }
 
 /// The fields a view can show, by name.
@@ -316,6 +362,19 @@ pub fn dem_field<'a>(p: &'a Particles, name: &str) -> Option<Field<'a>> {
         "omega" => Field::Scalar(&p.omega),
         "radius" => Field::Scalar(&p.radius),
         "force" => Field::Vector(&p.force),
+        _ => return None,
+    })
+}
+
+/// Field `name` of a 3D run's spheres, if there is one.
+pub fn dem3_field<'a>(p: &'a grains_dem3d::Particles, name: &str) -> Option<Field<'a>> {
+    Some(match name {
+        "id" => Field::Ids(&p.id),
+        "position" => Field::Vector3(&p.pos),
+        "velocity" => Field::Vector3(&p.vel),
+        "omega" => Field::Vector3(&p.omega),
+        "radius" => Field::Scalar(&p.radius),
+        "force" => Field::Vector3(&p.force),
         _ => return None,
     })
 }

@@ -24,8 +24,8 @@ use crate::forces::{ForceError, OutsideForce};
 use crate::run::{self, AnyRun, Finished, Live, RunError, RunOptions};
 use crate::source::Source;
 use crate::Simulation;
-use data::{ChargeData, Contacts, Field, ParticleData, Points};
-use glam::DVec2;
+use data::{ChargeData, Contacts, Field, ParticleData, ParticleData3, Points};
+use glam::{DVec2, DVec3};
 use grains_core::history::History;
 use std::path::{Path, PathBuf};
 
@@ -252,7 +252,9 @@ impl Session {
                 s.outside.error.take()
             }),
             AnyRun::Mpm(l) => steps(l.as_mut(), n, stop_at_rule, &mut control, &mut go, |_| None),
-            AnyRun::Dem3(l) => steps(l.as_mut(), n, stop_at_rule, &mut control, &mut go, |_| None),
+            AnyRun::Dem3(l) => steps(l.as_mut(), n, stop_at_rule, &mut control, &mut go, |s| {
+                s.outside.error.take()
+            }),
             AnyRun::FemDem(l) => steps(l.as_mut(), n, stop_at_rule, &mut control, &mut go, |s| {
                 s.outside.error.take()
             }),
@@ -266,17 +268,24 @@ impl Session {
     }
 
     /// The particles in id order (copies): DEM particles, a FEM–DEM run's ring, an MPM
-    /// run's material points.
+    /// run's material points; none for a 3D run ([`Session::particles3`]).
     pub fn particles(&self) -> ParticleData {
         match &self.live {
             AnyRun::Dem(l) => ParticleData::of_dem(&l.sim.state.particles),
             AnyRun::Mpm(l) => ParticleData::of_view(&l.sim.particles()),
-            // The session's particle data is 2D.
             AnyRun::Dem3(_) => ParticleData::default(),
             AnyRun::FemDem(l) => match &l.sim.ring {
                 Some(r) => ParticleData::of_dem(&r.state.particles),
                 None => ParticleData::default(),
             },
+        }
+    }
+
+    /// A 3D run's spheres in id order (copies); `None` for a 2D run.
+    pub fn particles3(&self) -> Option<ParticleData3> {
+        match &self.live {
+            AnyRun::Dem3(l) => Some(ParticleData3::of_dem3(&l.sim.state.particles)),
+            _ => None,
         }
     }
 
@@ -286,7 +295,7 @@ impl Session {
         match &self.live {
             AnyRun::Dem(l) => data::dem_field(&l.sim.state.particles, name),
             AnyRun::FemDem(l) => data::dem_field(&l.sim.ring.as_ref()?.state.particles, name),
-            AnyRun::Dem3(_) => None,
+            AnyRun::Dem3(l) => data::dem3_field(&l.sim.state.particles, name),
             AnyRun::Mpm(l) => {
                 let p = &l.sim.state.particles;
                 match name {
@@ -311,15 +320,9 @@ impl Session {
         }
     }
 
-    /// Sets `"position"` or `"velocity"` of the particles `ids` to `values`.
+    /// Sets `"position"` or `"velocity"` of the particles `ids` to `values` (2D runs;
+    /// 3D runs take [`Session::set3`]).
     pub fn set(&mut self, name: &str, ids: &[u32], values: &[DVec2]) -> Result<(), Error> {
-        if ids.len() != values.len() {
-            return Err(Error::Argument(format!(
-                "set({name}): {} ids but {} values",
-                ids.len(),
-                values.len()
-            )));
-        }
         let (id, pos, vel) = match &mut self.live {
             AnyRun::Dem(l) => {
                 let p = &mut l.sim.state.particles;
@@ -336,24 +339,18 @@ impl Session {
                 }
                 None => return Err(Error::Argument("this run has no particles".into())),
             },
-            AnyRun::Dem3(_) => return Err(Error::Argument(three_d("set"))),
+            AnyRun::Dem3(_) => return Err(Error::Argument(other_dim("set", 3, "set3"))),
         };
-        let target = match name {
-            "position" => pos,
-            "velocity" => vel,
-            other => {
-                return Err(Error::Argument(format!(
-                    "set: name = \"{other}\": must be \"position\" or \"velocity\""
-                )))
-            }
+        assign(name, id, pos, vel, ids, values)
+    }
+
+    /// Sets `"position"` or `"velocity"` of the spheres `ids` of a 3D run to `values`.
+    pub fn set3(&mut self, name: &str, ids: &[u32], values: &[DVec3]) -> Result<(), Error> {
+        let AnyRun::Dem3(l) = &mut self.live else {
+            return Err(Error::Argument(other_dim("set3", 2, "set")));
         };
-        let index = index_of_ids(id);
-        for (&k, v) in ids.iter().zip(values) {
-            let i = index(k)
-                .ok_or_else(|| Error::Argument(format!("set({name}): no particle with id {k}")))?;
-            target[i] = *v;
-        }
-        Ok(())
+        let p = &mut l.sim.state.particles;
+        assign(name, &p.id, &mut p.pos, &mut p.vel, ids, values)
     }
 
     /// Adds an outside force (DEM and FEM–DEM runs), applied in every later step after
@@ -376,11 +373,36 @@ impl Session {
                     "outside forces apply to DEM and FEM–DEM runs; this one is engine = \"mpm\""
                         .into(),
                 )),
-                AnyRun::Dem3(_) => return Err(Error::Argument(three_d("add_force"))),
+                AnyRun::Dem3(_) => {
+                    return Err(Error::Argument(other_dim("add_force", 3, "add_force3")))
+                }
             };
         f.add(time, p).map_err(Error::Force)?;
         outside.fields.push(f);
         Ok(())
+    }
+
+    /// Adds an outside force to a 3D run, as [`Session::add_force`] does to a 2D one.
+    pub fn add_force3(
+        &mut self,
+        mut f: Box<dyn OutsideForce<grains_dem3d::Particles>>,
+    ) -> Result<(), Error> {
+        let AnyRun::Dem3(l) = &mut self.live else {
+            return Err(Error::Argument(other_dim("add_force3", 2, "add_force")));
+        };
+        let sim = &mut l.sim;
+        f.add(sim.state.time, &mut sim.state.particles)
+            .map_err(Error::Force)?;
+        sim.outside.fields.push(f);
+        Ok(())
+    }
+
+    /// The touching particle pairs of a 3D run.
+    pub fn contacts3(&self) -> Option<Contacts<DVec3>> {
+        match &self.live {
+            AnyRun::Dem3(l) => Some(Contacts::of3(&l.sim.setup, &l.sim.state)),
+            _ => None,
+        }
     }
 
     /// The touching particle pairs (DEM and FEM–DEM runs).
@@ -456,8 +478,8 @@ impl Session {
     }
 
     /// Writes a checkpoint of the run as it stands and copies the run directory into
-    /// `dir`, which [`Session::resume`] and `grains resume` continue from (DEM and
-    /// FEM–DEM runs). The session goes on unchanged.
+    /// `dir`, which [`Session::resume`] and `grains resume` continue from (DEM runs of
+    /// either dimension and FEM–DEM runs). The session goes on unchanged.
     pub fn checkpoint(&mut self, dir: &Path) -> Result<(), Error> {
         if self.finished.is_some() {
             return Err(Error::Ended);
@@ -465,8 +487,9 @@ impl Session {
         let control = run::control(&mut self.opts, &self.src);
         let written = match &mut self.live {
             AnyRun::Dem(l) => save(l.as_mut(), &control),
+            AnyRun::Dem3(l) => save(l.as_mut(), &control),
             AnyRun::FemDem(l) => save(l.as_mut(), &control),
-            AnyRun::Mpm(_) | AnyRun::Dem3(_) => Ok(false),
+            AnyRun::Mpm(_) => Ok(false),
         }?;
         if !written {
             return Err(Error::Argument(format!(
@@ -556,7 +579,42 @@ fn save<L: Live>(l: &mut L, control: &crate::driver::Control) -> Result<bool, Er
     Ok(stepper.checkpoint(sim, &mut observers, control)?)
 }
 
-/// Why a session call is refused on a 3D run: the session's particle data is 2D.
-fn three_d(call: &str) -> String {
-    format!("{call}: not available for 3D (dim = 3) runs yet; the session's particle data is 2D")
+/// Why a call for one dimension is refused on a run of the other.
+fn other_dim(call: &str, dim: usize, instead: &str) -> String {
+    format!("{call}: this run has dim = {dim}; use {instead}")
+}
+
+/// Sets `"position"` or `"velocity"` of the particles `ids` (their storage ids `id`) to
+/// `values`.
+fn assign<V: Copy>(
+    name: &str,
+    id: &[u32],
+    pos: &mut [V],
+    vel: &mut [V],
+    ids: &[u32],
+    values: &[V],
+) -> Result<(), Error> {
+    if ids.len() != values.len() {
+        return Err(Error::Argument(format!(
+            "set({name}): {} ids but {} values",
+            ids.len(),
+            values.len()
+        )));
+    }
+    let target = match name {
+        "position" => pos,
+        "velocity" => vel,
+        other => {
+            return Err(Error::Argument(format!(
+                "set: name = \"{other}\": must be \"position\" or \"velocity\""
+            )))
+        }
+    };
+    let index = index_of_ids(id);
+    for (&k, v) in ids.iter().zip(values) {
+        let i = index(k)
+            .ok_or_else(|| Error::Argument(format!("set({name}): no particle with id {k}")))?;
+        target[i] = *v;
+    }
+    Ok(())
 }
