@@ -107,3 +107,26 @@ fn a_3d_collision_resumed_keeps_its_checks() {
         assert_eq!(c["pass"], true, "{c}");
     }
 }
+
+/// A wall that moves is where the straight run's steps left it after a resume: the
+/// column's floor rising under it (a checkpoint holds the particles, not the walls,
+/// so the resumed run replays the wall's steps).
+#[test]
+fn a_moving_wall_resumed_is_where_the_straight_run_left_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("piston.toml");
+    let text = column().replace(
+        "normal = [0.0, 0.0, 1.0]\n",
+        "normal = [0.0, 0.0, 1.0]\nvelocity = [0.0, 0.0, 0.05]\n",
+    );
+    assert!(text.contains("velocity = [0.0, 0.0, 0.05]"));
+    std::fs::write(&file, text).unwrap();
+    let (a, b) = (tmp.path().join("straight"), tmp.path().join("paused"));
+    let (sa, sb) = straight_and_resumed(&file, &a, &b);
+    assert_eq!(sa["state_hash"], sb["state_hash"], "resumed piston differs");
+    let last = |d: &Path| {
+        let h = std::fs::read_to_string(d.join("history.csv")).unwrap();
+        h.lines().last().unwrap().to_string()
+    };
+    assert_eq!(last(&a), last(&b));
+}
