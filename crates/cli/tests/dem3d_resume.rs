@@ -130,3 +130,22 @@ fn a_moving_wall_resumed_is_where_the_straight_run_left_it() {
     };
     assert_eq!(last(&a), last(&b));
 }
+
+/// The small drum paused and resumed: its angle of repose and torque average the
+/// samples from before the pause too (the drum's watch is part of the checkpoint).
+#[test]
+fn a_3d_drum_resumed_keeps_its_samples() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("drum.toml");
+    let text = std::fs::read_to_string(example("dem3d/drum_small.toml")).unwrap();
+    let short = text
+        .replace("duration = 1.6", "duration = 0.4")
+        .replace("after = 0.8", "after = 0.1");
+    assert_eq!(short.matches("after = 0.1").count(), 2);
+    std::fs::write(&file, short).unwrap();
+    let (a, b) = (tmp.path().join("straight"), tmp.path().join("paused"));
+    let (sa, sb) = straight_and_resumed(&file, &a, &b);
+    assert_eq!(sa["state_hash"], sb["state_hash"]);
+    assert_eq!(sa["checks"], sb["checks"], "resumed drum's checks differ");
+    assert_eq!(sb["checks"].as_array().unwrap().len(), 2);
+}

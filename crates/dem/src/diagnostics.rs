@@ -61,7 +61,20 @@ pub fn measure(setup: &Setup, s: &State) -> Diagnostics {
 /// [`measure`] of a state spread over ranks: each rank's figures are combined through
 /// `reduce`, in rank order.
 pub fn measure_on<R: Reduce + ?Sized>(setup: &Setup, s: &State, reduce: &R) -> Diagnostics {
-    let d = measure_here(setup, s);
+    measure_where(setup, s, reduce, |_| true)
+}
+
+/// [`measure_on`] of a rank that `owns` some of the particles it stores (by index; the
+/// others are copies of another rank's, as in [`crate::decomp`]): its own particles'
+/// terms and wall contacts, and each touching pair once, on the rank that owns the
+/// pair's lower id.
+pub fn measure_where<R: Reduce + ?Sized>(
+    setup: &Setup,
+    s: &State,
+    reduce: &R,
+    owns: impl Fn(usize) -> bool + Sync,
+) -> Diagnostics {
+    let d = measure_here(setup, s, &owns);
     if reduce.ranks() == 1 {
         return d;
     }
@@ -97,7 +110,7 @@ pub fn measure_on<R: Reduce + ?Sized>(setup: &Setup, s: &State, reduce: &R) -> D
 }
 
 /// This rank's figures.
-fn measure_here(setup: &Setup, s: &State) -> Diagnostics {
+fn measure_here(setup: &Setup, s: &State, owns: &(impl Fn(usize) -> bool + Sync)) -> Diagnostics {
     let p = &s.particles;
     let list = &s.contacts;
     let n = p.len();
@@ -109,16 +122,23 @@ fn measure_here(setup: &Setup, s: &State) -> Diagnostics {
                 ..Default::default()
             };
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                let m = p.mass(i);
-                let v = p.vel[i];
-                d.kinetic_translational += 0.5 * m * v.length_squared();
-                d.kinetic_rotational += 0.5 * p.omega[i].dot(p.omega[i]) / p.inv_inertia[i];
-                d.potential -= m * setup.gravity.dot(p.pos[i]);
-                d.momentum += m * v;
-                d.finite &= p.pos[i].is_finite() && v.is_finite() && p.omega[i].finite();
+                let mine = owns(i);
+                if mine {
+                    let m = p.mass(i);
+                    let v = p.vel[i];
+                    d.kinetic_translational += 0.5 * m * v.length_squared();
+                    d.kinetic_rotational += 0.5 * p.omega[i].dot(p.omega[i]) / p.inv_inertia[i];
+                    d.potential -= m * setup.gravity.dot(p.pos[i]);
+                    d.momentum += m * v;
+                    d.finite &= p.pos[i].is_finite() && v.is_finite() && p.omega[i].finite();
+                }
                 let mi = p.material[i] as usize;
                 for e in list.row[i] as usize..list.row[i + 1] as usize {
                     let j = list.nbr[e] as usize;
+                    // A pair across ranks is stored on both: its lower id's owner counts it.
+                    if !owns(if p.id[i] < p.id[j] { i } else { j }) {
+                        continue;
+                    }
                     let dist = setup.domain.min_image(p.pos[j] - p.pos[i]).length();
                     let overlap = p.radius[i] + p.radius[j] - dist;
                     if overlap > 0.0 {
@@ -140,7 +160,9 @@ fn measure_here(setup: &Setup, s: &State) -> Diagnostics {
                         d.max_overlap_ratio = d.max_overlap_ratio.max(overlap / rmin);
                     }
                 }
-                wall_terms(setup, s, i, &mut d);
+                if mine {
+                    wall_terms(setup, s, i, &mut d);
+                }
             }
             d
         })

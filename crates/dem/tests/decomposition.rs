@@ -4,7 +4,7 @@
 use glam::DVec2;
 use grains_dem::decomp::local::{run_ranks, Local};
 use grains_dem::decomp::{Decomposed, RankGrid};
-use grains_dem::diagnostics::state_hash;
+use grains_dem::diagnostics::{measure, measure_on, state_hash};
 use grains_dem::{step, step_on, Domain, NoHooks, Particles, Setup, State};
 
 #[path = "common/peer.rs"]
@@ -230,6 +230,7 @@ fn a_settled_bed_keeps_its_contacts_and_springs_through_migration() {
         let mut d = Decomposed::new(l, &set, Some([2, 2]), 0.5).unwrap();
         let mut s = d.start(&set, &whole);
         let before = (d.state_hash(&s), contacts(&d, &set, &s));
+        let figures = (d.measure(&set, &s), measure_on(&set, &s, &d));
         // Every particle, ghosts too, moves by the same rounding as the serial one.
         shift(&mut s);
         grains_dem::Exchange::migrate(&mut d, &set, &mut s);
@@ -239,8 +240,36 @@ fn a_settled_bed_keeps_its_contacts_and_springs_through_migration() {
             .filter(|&i| d.owns(i))
             .map(|i| (s.particles.id[i], s.contacts.wall_shear[i].to_bits()))
             .collect();
-        ([before, (d.state_hash(&s), contacts(&d, &set, &s))], walls)
+        (
+            [before, (d.state_hash(&s), contacts(&d, &set, &s))],
+            walls,
+            figures,
+        )
     });
+    // The figures over the ranks: each particle and pair once (summed in another
+    // order, so equal to rounding; counts and the worst overlap exactly). Counting
+    // every stored particle, ghosts included, overstates them.
+    let serial = measure(&set, &whole);
+    assert!(serial.kinetic() > 0.0 && serial.elastic > 0.0);
+    for (r, o) in out.iter().enumerate() {
+        let (m, with_ghosts) = &o.2;
+        assert_eq!(m.pair_contacts, serial.pair_contacts, "rank {r}");
+        assert_eq!(m.wall_contacts, serial.wall_contacts, "rank {r}");
+        assert_eq!(m.max_overlap_ratio, serial.max_overlap_ratio, "rank {r}");
+        assert!(m.finite);
+        for (a, b, what) in [
+            (m.kinetic(), serial.kinetic(), "kinetic"),
+            (m.potential, serial.potential, "potential"),
+            (m.elastic, serial.elastic, "elastic"),
+        ] {
+            assert!(
+                (a - b).abs() <= 1e-12 * b.abs(),
+                "rank {r}: {what} {a} against {b}"
+            );
+        }
+        assert!(with_ghosts.kinetic() > 1.01 * serial.kinetic());
+        assert!(with_ghosts.pair_contacts > serial.pair_contacts);
+    }
     let mut walls: Vec<(u32, u64)> = out.iter().flat_map(|o| o.1.clone()).collect();
     walls.sort_unstable();
     let mut want_walls: Vec<(u32, u64)> = (0..moved.particles.len())

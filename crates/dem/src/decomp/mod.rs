@@ -163,6 +163,14 @@ impl<C: Reduce + Post> Decomposed<C> {
         crate::diagnostics::state_hash_on(s, self, |i| self.owns(i))
     }
 
+    /// The run's figures over every rank ([`crate::diagnostics::measure`]): each rank's
+    /// own particles, each pair once.
+    pub fn measure(&self, setup: &Setup, s: &State) -> crate::diagnostics::Diagnostics {
+        // The flags, not `self`: the transport need not be shared between threads.
+        let owned = &self.owned;
+        crate::diagnostics::measure_where(setup, s, self, |i| owned.get(i).copied().unwrap_or(true))
+    }
+
     /// Sends each neighbour its part of `out` (aligned with `neighbours`) and returns
     /// what each sent here, as words.
     fn swap(&self, out: Vec<Vec<u64>>) -> Vec<Vec<u64>> {

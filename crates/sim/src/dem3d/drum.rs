@@ -11,9 +11,10 @@
 use super::Dem3;
 use glam::DVec3;
 use grains_dem3d::WallShape;
+use serde::{Deserialize, Serialize};
 
 /// Running means of a drum's figures from time `after` on.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct DrumWatch {
     /// The drum (a cylinder wall's index).
     pub wall: usize,

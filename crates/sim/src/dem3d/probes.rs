@@ -77,6 +77,14 @@ enum Partner {
     Wall(usize),
 }
 
+/// What a checkpoint keeps of the probes, one list per check (empty for none).
+#[derive(Serialize, Deserialize)]
+struct Saved<I, D, S> {
+    impacts: Vec<Vec<I>>,
+    drums: Vec<Vec<D>>,
+    silos: Vec<Vec<S>>,
+}
+
 /// Watches the scenario's checks.
 pub struct Probes {
     specs: Vec<CheckSpec>,
@@ -223,23 +231,39 @@ impl Observer<Dem3> for Probes {
         Ok(Flow::Continue)
     }
 
-    /// The collisions watched so far (a checkpoint's TOML has no null: a slot without
-    /// one is an empty list).
+    /// The collisions, drums and silos watched so far (a checkpoint's TOML has no null:
+    /// a slot without one is an empty list).
     fn save(&self) -> Option<(&'static str, toml::Value)> {
-        let slots: Vec<Vec<_>> = self.impacts.iter().map(|s| s.iter().collect()).collect();
-        toml::Value::try_from(slots).ok().map(|v| ("probes", v))
+        fn slots<T>(v: &[Option<T>]) -> Vec<Vec<&T>> {
+            v.iter().map(|s| s.iter().collect()).collect()
+        }
+        let saved = Saved {
+            impacts: slots(&self.impacts),
+            drums: slots(&self.drums),
+            silos: slots(&self.silos),
+        };
+        toml::Value::try_from(saved).ok().map(|v| ("probes", v))
     }
 
     fn restore(&mut self, state: toml::Value) -> anyhow::Result<()> {
-        let slots: Vec<Vec<(u32, Partner, Impact)>> = state.try_into()?;
-        anyhow::ensure!(
-            slots.len() == self.impacts.len(),
-            "{} collision checks saved, the scenario has {}",
-            slots.len(),
-            self.impacts.len()
-        );
-        self.impacts = slots.into_iter().map(|s| s.into_iter().next()).collect();
-        Ok(())
+        let saved: Saved<(u32, Partner, Impact), DrumWatch, DischargeWatch> = state.try_into()?;
+        fn slots<T>(
+            what: &str,
+            saved: Vec<Vec<T>>,
+            now: &mut Vec<Option<T>>,
+        ) -> anyhow::Result<()> {
+            anyhow::ensure!(
+                saved.len() == now.len(),
+                "{} {what} checks saved, the scenario has {}",
+                saved.len(),
+                now.len()
+            );
+            *now = saved.into_iter().map(|s| s.into_iter().next()).collect();
+            Ok(())
+        }
+        slots("collision", saved.impacts, &mut self.impacts)?;
+        slots("drum", saved.drums, &mut self.drums)?;
+        slots("silo", saved.silos, &mut self.silos)
     }
 
     fn on_end(&mut self, sim: &Dem3, _status: &Status, report: &mut Report) -> anyhow::Result<()> {

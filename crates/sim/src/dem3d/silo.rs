@@ -11,9 +11,10 @@
 use super::Dem3;
 use glam::DVec3;
 use grains_dem3d::WallShape;
+use serde::{Deserialize, Serialize};
 
 /// The flux through the slab under the orifice against time, from `after` on.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct DischargeWatch {
     wall: usize,
     after: f64,
