@@ -99,6 +99,14 @@ fn silo_small() {
     assert!(s["figures"]["mass_flow_rate_rate_kg_s"].as_f64().unwrap() > 0.0);
 }
 
+/// Spheres poured into a box: every one poured is in the box, and the floor carries
+/// their weight once they settle.
+#[test]
+fn pour_small() {
+    let (s, _) = run_dem3d_example("pour_small", 2);
+    assert_eq!(s["poured"], 300, "{s}");
+}
+
 #[test]
 fn check_reports_a_3d_scenario() {
     let o = grains(&[

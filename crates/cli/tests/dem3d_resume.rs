@@ -149,3 +149,29 @@ fn a_3d_drum_resumed_keeps_its_samples() {
     assert_eq!(sa["checks"], sb["checks"], "resumed drum's checks differ");
     assert_eq!(sb["checks"].as_array().unwrap().len(), 2);
 }
+
+/// A run that pours spheres, paused while it pours, resumes bitwise: the pour's
+/// progress is read back from the ids in the checkpoint, and its places are drawn from
+/// streams of the step and the sphere's number.
+#[test]
+fn a_paused_pour_resumes_bitwise() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("pour.toml");
+    let text = std::fs::read_to_string(example("dem3d/pour_small.toml")).unwrap();
+    let text = text
+        .replace("duration = 1.0", "duration = 0.06")
+        .replace(
+            "[output]\nframes = 10\nhistory = 200",
+            "[output]\nframes = 3\nhistory = 20\ncheckpoint_every = 200",
+        )
+        .replace("tolerance = 0.005", "tolerance = 1.0");
+    std::fs::write(&file, text).unwrap();
+    let (a, b) = (tmp.path().join("straight"), tmp.path().join("paused"));
+    let (sa, sb) = straight_and_resumed(&file, &a, &b);
+    assert_eq!(sb["status"], "completed");
+    let poured = sa["poured"].as_u64().unwrap();
+    assert!(poured > 50 && poured < 300, "poured {poured}");
+    assert_eq!(sa["poured"], sb["poured"]);
+    assert_eq!(sa["state_hash"], sb["state_hash"], "resumed pour differs");
+    assert_eq!(sa["checks"], sb["checks"]);
+}

@@ -28,6 +28,7 @@ pub mod forces;
 pub mod granular;
 pub mod granular_pass;
 pub mod history;
+pub mod insert;
 pub mod integrate;
 pub mod ledger;
 pub mod material;

@@ -41,6 +41,13 @@ normal = [0.0, 0.0, 1.0]
 duration = 1.0e-7
 "#;
 
+/// A `[pour]` table before `[run]`, with `rate` lines as given.
+fn pour(rate: &str) -> String {
+    format!(
+        "[pour]\nmaterial = \"glass\"\nregion = {{ shape = \"box\", lo = [0.001, 0.001, 0.005], hi = [0.009, 0.009, 0.009] }}\nradius = {{ distribution = \"uniform\", min = 0.0004, max = 0.0005 }}\n{rate}count = 10\n\n[run]"
+    )
+}
+
 /// The issue's list (ν, E, e, μ, μ_r, k_r, vectors of the wrong length, overlaps at
 /// the start) and the keys of the 3D schema.
 pub fn values(all: &mut Vec<Case>) {
@@ -214,6 +221,25 @@ pub fn values(all: &mut Vec<Case>) {
             "[run]",
             "[[check]]\nkind = \"beverloo\"\nname = \"w\"\nwall = \"floor\"\nafter = 0.0\npacking = 0.6\n\n[run]",
             &["check[0].wall", "hole"],
+        ),
+        // Pouring.
+        ("[run]", &pour(""), &["pour", "exactly one"]),
+        ("[run]", &pour("rate = 100.0\n").replace("count = 10\n", ""), &["pour", "count", "mass"]),
+        ("[run]", &pour("rate = 100.0\nmass_rate = 0.1\n"), &["pour", "exactly one"]),
+        ("[run]", &pour("rate = -100.0\n"), &["pour.rate"]),
+        ("[run]", &pour("mass_rate = 0.0\n"), &["pour.mass_rate"]),
+        ("[run]", &pour("rate = 100.0\n").replace("count = 10", "count = 0"), &["pour.count"]),
+        ("[run]", &pour("rate = 100.0\nmass = -1.0\n"), &["pour.mass"]),
+        ("[run]", &pour("rate = 100.0\n").replace("\"glass\"", "\"sand\""), &["pour.material", "sand"]),
+        ("[run]", &pour("rate = 100.0\n").replace("hi = [0.009, 0.009, 0.009]", "hi = [0.009, 0.009, 0.02]"), &["pour.region", "inside the domain"]),
+        ("[run]", &pour("rate = 100.0\n").replace("lo = [0.001, 0.001, 0.005]", "lo = [0.0085, 0.001, 0.005]"), &["pour.region", "largest radius"]),
+        ("[run]", &pour("rate = 100.0\n").replace("min = 0.0004", "min = -0.0004"), &["pour.radius.min"]),
+        ("[run]", &pour("rate = 100.0\nvelocity = [0.0, -1.0]\n"), &["velocity"]),
+        ("[run]", &pour("rate = 100.0\n").replace("[run]", "[run]\nstop_kinetic_ratio = 1.0e-6"), &["run.stop_kinetic_ratio", "pour"]),
+        (
+            "[run]",
+            "[[check]]\nkind = \"poured_mass\"\nname = \"m\"\nregion = { shape = \"box\", lo = [0.0, 0.0, 0.0], hi = [0.01, 0.01, 0.01] }\ntolerance = 1e-9\n\n[run]",
+            &["check[0].kind", "pour"],
         ),
     ];
     for (from, to, expect) in edits {

@@ -2,6 +2,7 @@
 //! so a scenario that fails leaves no output behind.
 
 use super::law::{granular_dt, resolve};
+use super::pour::Pour;
 use super::scenario::{CheckSpec, Measure, RegionSpec, Scenario, SphereSource};
 use crate::dem::assemble::{lattice_values, sphere_values};
 use glam::DVec3;
@@ -26,6 +27,8 @@ pub struct Assembled {
     pub steps: u64,
     /// The restitution each pair's law is built for, where it takes one.
     pub restitution: PairTable<Option<f64>>,
+    /// Spheres poured in during the run.
+    pub pour: Option<Pour>,
 }
 
 pub(super) const AXES: [&str; 3] = ["x", "y", "z"];
@@ -90,15 +93,47 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     for (g, src) in s.particles.iter().enumerate() {
         add_group(s, g, src, &mut particles)?;
     }
-    if particles.is_empty() {
+    let pour = match &s.pour {
+        Some(spec) => Some(Pour::new(s, spec, particles.len() as u32)?),
+        None => None,
+    };
+    if pour.is_some() && s.run.stop_kinetic_ratio.is_some() {
+        return Err(InputError::new(
+            "run.stop_kinetic_ratio",
+            s.run.stop_kinetic_ratio.unwrap_or_default(),
+            "not with a [pour] (the weight it measures rest against grows while pouring); give run.duration alone",
+        ));
+    }
+    if particles.is_empty() && pour.is_none() {
         return Err(InputError::new(
             "particles",
             "(none)",
-            "at least one sphere is required",
+            "at least one sphere (or a [pour]) is required",
         ));
     }
+    // The poured spheres size the time step, the skin and the periodic lengths too.
+    let sizing = match &pour {
+        Some(p) => {
+            let mut all = particles.clone();
+            let extra = p.samples();
+            for i in 0..extra.len() {
+                let m = &s.materials[extra.material[i] as usize];
+                all.push(
+                    extra.pos[i],
+                    extra.radius[i],
+                    m.density,
+                    m.inertia_factor,
+                    extra.material[i],
+                    DVec3::ZERO,
+                    DVec3::ZERO,
+                );
+            }
+            std::borrow::Cow::Owned(all)
+        }
+        None => std::borrow::Cow::Borrowed(&particles),
+    };
     let walls = super::walls::walls(s)?;
-    let mean_d = 2.0 * particles.radius.iter().sum::<f64>() / particles.len() as f64;
+    let mean_d = 2.0 * sizing.radius.iter().sum::<f64>() / sizing.len() as f64;
     let skin = s.run.validate(mean_d)?;
     s.output.validate(&super::CAPABILITIES, s.run.duration)?;
     let mut setup = Setup::new(
@@ -111,12 +146,12 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     )?;
     setup.granular = laws.granular;
     let dt_critical = match &setup.granular {
-        None => timestep::critical_dt(&setup, &particles),
+        None => timestep::critical_dt(&setup, &sizing),
         Some(table) => {
             let mut smallest: Vec<Option<(f64, f64)>> = vec![None; s.materials.len()];
-            for i in 0..particles.len() {
-                let m = &mut smallest[particles.material[i] as usize];
-                let here = (particles.radius[i], particles.mass(i));
+            for i in 0..sizing.len() {
+                let m = &mut smallest[sizing.material[i] as usize];
+                let here = (sizing.radius[i], sizing.mass(i));
                 *m = Some(m.map_or(here, |(r, w): (f64, f64)| (r.min(here.0), w.min(here.1))));
             }
             granular_dt(table, &s.materials, &smallest)
@@ -128,7 +163,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         dt_critical,
         "Rayleigh time or stiffest contact, smallest sphere",
     )?;
-    starts_inside(&setup, &particles)?;
+    starts_inside(&setup, &sizing)?;
     walls_clear(&setup, &particles)?;
     checks(s, &setup, &particles, &laws.restitution)?;
     let steps = (s.run.duration / dt).ceil() as u64;
@@ -139,11 +174,12 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
         dt_critical,
         steps,
         restitution: laws.restitution,
+        pour,
     })
 }
 
 /// The box about `region`, its values checked.
-fn region_box(key: &str, region: &RegionSpec) -> Result<(DVec3, DVec3), InputError> {
+pub(super) fn region_box(key: &str, region: &RegionSpec) -> Result<(DVec3, DVec3), InputError> {
     match *region {
         RegionSpec::Box { lo, hi } => {
             let (l, h) = (
@@ -176,7 +212,7 @@ fn region_box(key: &str, region: &RegionSpec) -> Result<(DVec3, DVec3), InputErr
 }
 
 /// Whether a sphere of radius `r` at `p` lies inside `region`.
-fn fits(region: &RegionSpec, p: DVec3, r: f64) -> bool {
+pub(super) fn fits(region: &RegionSpec, p: DVec3, r: f64) -> bool {
     match *region {
         RegionSpec::Box { lo, hi } => {
             (p - r).cmpge(DVec3::from(lo)).all() && (p + r).cmple(DVec3::from(hi)).all()
@@ -575,6 +611,16 @@ fn checks(
                         "gravity",
                         "[0, 0, 0]",
                         format!("check[{k}] needs non-zero gravity"),
+                    ));
+                }
+            }
+            CheckSpec::PouredMass { region, .. } => {
+                region_box(&format!("check[{k}]"), region)?;
+                if s.pour.is_none() {
+                    return Err(InputError::new(
+                        format!("check[{k}].kind"),
+                        "\"poured_mass\"",
+                        "needs a [pour]",
                     ));
                 }
             }

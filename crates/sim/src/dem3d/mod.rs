@@ -8,6 +8,7 @@ pub mod assemble;
 pub mod drum;
 pub mod law;
 pub mod output;
+pub mod pour;
 pub mod probes;
 pub mod run;
 pub mod scenario;
@@ -45,6 +46,8 @@ pub struct Dem3 {
     pub lammps_dump: bool,
     /// Forces from outside the particle system (none in a scenario run).
     pub outside: Outside<Particles>,
+    /// Spheres poured in after each step.
+    pub pour: Option<pour::Pour>,
 }
 
 impl Dem3 {
@@ -79,6 +82,7 @@ impl Dem3 {
             dt,
             lammps_dump: false,
             outside: Outside::default(),
+            pour: None,
         }
     }
 }
@@ -106,6 +110,9 @@ impl Simulation for Dem3 {
                 time: self.state.time + self.dt,
             };
             step_with(&self.setup, &mut self.state, self.dt, &mut hook);
+        }
+        if let Some(p) = &mut self.pour {
+            p.pour(&self.setup, &mut self.state);
         }
         Ok(())
     }

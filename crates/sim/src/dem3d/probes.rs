@@ -387,6 +387,26 @@ impl Observer<Dem3> for Probes {
                         .insert(format!("{name}_c_at_k1.5"), c_fit.into());
                     Check::absolute(name, rate, 0.5 * (lo + hi), 0.5 * (hi - lo))
                 }
+                (CheckSpec::PouredMass { region, .. }, _) => {
+                    let inside: f64 = (0..p.len())
+                        .filter(|&i| super::assemble::fits(region, p.pos[i], 0.0))
+                        .map(|i| p.mass(i))
+                        .sum();
+                    let total: f64 = (0..p.len()).map(|i| p.mass(i)).sum();
+                    if let Some(pour) = &sim.pour {
+                        report
+                            .figures
+                            .insert(format!("{name}_poured"), pour.inserted().into());
+                        report.figures.insert(
+                            format!("{name}_poured_mass_kg"),
+                            pour.inserted_mass().into(),
+                        );
+                    }
+                    report
+                        .figures
+                        .insert(format!("{name}_inside_kg"), inside.into());
+                    Check::relative(name, inside, total, tol)
+                }
                 (CheckSpec::DrumTorque { .. }, _) => {
                     let r = self.drums[k]
                         .as_ref()

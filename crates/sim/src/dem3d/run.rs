@@ -27,10 +27,12 @@ pub type Resume = checkpoint::Resumed<State>;
 
 /// Reads `dir/checkpoint.bin` for the scenario copy in `dir`.
 pub fn load_checkpoint(s: &Scenario, src: &Source, dir: &Path) -> Result<Resume, RunError> {
+    // A `box` spec is six walls: the count is the assembled walls'.
+    let walls = super::walls::walls(s).map_or(s.walls.len(), |w| w.len());
     checkpoint::load_dem(
         dir,
         &src.text,
-        s.walls.len(),
+        walls,
         |r| grains_dem3d::checkpoint::read(r, 1 << 31),
         |state| state.contacts.n_walls,
     )
@@ -53,7 +55,8 @@ pub fn count(s: &Scenario) -> u64 {
                 *count as u64
             }
         })
-        .sum()
+        .sum::<u64>()
+        + s.pour.as_ref().and_then(|p| p.count).unwrap_or(0)
 }
 
 /// What a run of `n` spheres over `steps` steps costs (a sphere step costs about three
@@ -129,6 +132,7 @@ pub fn open(
         dt_critical,
         steps,
         restitution,
+        pour,
     } = assemble(s).map_err(input)?;
     let mut sim = match &resume {
         None => Dem3::new(setup, particles, dt).map_err(input)?,
@@ -139,6 +143,7 @@ pub fn open(
         }
     };
     sim.lammps_dump = s.output.lammps_dump;
+    sim.pour = pour.map(|p| p.resumed(&sim.state));
     let plan = s.output.plan_by_steps(&CAPABILITIES, steps);
     let out = opts.out.clone();
     opts.progress.announce(&format!(
@@ -227,6 +232,10 @@ impl Live for Dem3Run {
         let mut counts = serde_json::Map::new();
         counts.insert("dimensions".into(), 3.into());
         counts.insert("neighbour_builds".into(), sim.state.contacts.builds.into());
+        if let Some(p) = &sim.pour {
+            counts.insert("poured".into(), p.inserted().into());
+            counts.insert("poured_mass_kg".into(), p.inserted_mass().into());
+        }
         let costs = Costs {
             dt: sim.dt,
             dt_critical: self.dt_critical,

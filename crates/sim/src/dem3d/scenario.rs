@@ -34,6 +34,9 @@ pub struct Scenario {
     /// Groups of spheres.
     #[serde(rename = "particles", default)]
     pub particles: Vec<SphereSource>,
+    /// Spheres poured in during the run.
+    #[serde(default)]
+    pub pour: Option<super::pour::PourSpec>,
     /// Rigid walls.
     #[serde(rename = "wall", default)]
     pub walls: Vec<WallSpec>,
@@ -451,6 +454,16 @@ pub enum CheckSpec {
         /// Solid fraction of the flowing bed, for its bulk density.
         packing: f64,
     },
+    /// The mass of the spheres whose centres lie in `region` at the end over the mass
+    /// the run holds, poured and initial (expected 1: none escaped the container).
+    PouredMass {
+        /// Check name.
+        name: String,
+        /// The container's inside.
+        region: RegionSpec,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
     /// The mean torque of the grains on the drum `wall` about its axis over the mean
     /// moment of their weight about it, from `after` on (expected 1).
     DrumTorque {
@@ -474,7 +487,8 @@ impl CheckSpec {
             | CheckSpec::FinalVelocity { name, .. }
             | CheckSpec::ReposeAngle { name, .. }
             | CheckSpec::Beverloo { name, .. }
-            | CheckSpec::DrumTorque { name, .. } => name,
+            | CheckSpec::DrumTorque { name, .. }
+            | CheckSpec::PouredMass { name, .. } => name,
         }
     }
 
@@ -484,7 +498,8 @@ impl CheckSpec {
             CheckSpec::Collision { tolerance, .. }
             | CheckSpec::WallForceOverWeight { tolerance, .. }
             | CheckSpec::FinalVelocity { tolerance, .. }
-            | CheckSpec::DrumTorque { tolerance, .. } => Some(*tolerance),
+            | CheckSpec::DrumTorque { tolerance, .. }
+            | CheckSpec::PouredMass { tolerance, .. } => Some(*tolerance),
             CheckSpec::ReposeAngle { .. } | CheckSpec::Beverloo { .. } => None,
         }
     }
