@@ -1,8 +1,8 @@
 //! What a 3D run writes besides its history: ParaView frames of the spheres (3D points,
 //! vector velocity, ω and force, the 3 × 3 contact stress), optionally a LAMMPS dump
 //! beside each frame, and the plots: the history's
-//! (as in 2D) and the final spheres seen from the side (x–z) and from above (x–y), with
-//! the walls drawn.
+//! (as in 2D) and the final spheres seen from the side and from above, the views chosen
+//! by gravity ([`views`]), with the walls drawn as the view sees them.
 
 use super::Dem3;
 use crate::frames::Framed;
@@ -112,38 +112,110 @@ pub fn lammps_dump(w: &mut dyn Write, setup: &Setup, s: &State) -> io::Result<()
     Ok(())
 }
 
-/// A view: the two axes shown (indices into x, y, z) and the depth axis, looked at
-/// from its far end.
+/// A view: the screen's right (`e1`) and up (`e2`) directions and `toward`, e1 × e2,
+/// pointing at the viewer; each axis named by the coordinate it runs along, if any.
 struct View {
-    axes: [usize; 2],
-    depth: usize,
-    names: [&'static str; 2],
+    e1: DVec3,
+    e2: DVec3,
+    toward: DVec3,
+    names: [String; 2],
     file: &'static str,
-    what: &'static str,
+    what: String,
 }
 
-const VIEWS: [View; 2] = [
-    View {
-        axes: [0, 2],
-        depth: 1,
-        names: ["x", "z"],
-        file: "particles_side.png",
-        what: "from the side (along y)",
-    },
-    View {
-        axes: [0, 1],
-        depth: 2,
-        names: ["x", "y"],
-        file: "particles_top.png",
-        what: "from above (along z)",
-    },
-];
+/// A direction's name: a coordinate axis (signed), or `other` when it is none.
+fn axis_name(u: DVec3, other: &str) -> String {
+    for (a, name) in ["x", "y", "z"].iter().enumerate() {
+        if (u[a].abs() - 1.0).abs() < 1e-9 {
+            return if u[a] > 0.0 {
+                name.to_string()
+            } else {
+                format!("−{name}")
+            };
+        }
+    }
+    other.to_string()
+}
+
+/// The side and top views of a run under `gravity`: the top looks down along gravity,
+/// the side is a vertical plane (gravity pointing down the screen) seen along a turning
+/// cylinder's axis where one lies across gravity (a drum is seen end-on, as a circle),
+/// else along a coordinate axis across gravity (y when gravity is along −z).
+fn views(setup: &Setup) -> [View; 2] {
+    let g = setup.gravity;
+    let up = if g == DVec3::ZERO {
+        DVec3::Z
+    } else {
+        -g.normalize()
+    };
+    let across = |u: DVec3| u.dot(up).abs() < 1e-9;
+    let drum = setup.walls.iter().find_map(|w| match w.shape {
+        WallShape::Cylinder { axis, .. } => {
+            let a = DVec3::from(axis).normalize();
+            across(a).then_some(a)
+        }
+        _ => None,
+    });
+    let right = match drum {
+        // Seen along the axis, either way: the one that puts the larger coordinate right.
+        Some(a) => {
+            let e = up.cross(a);
+            if e.x + e.y + e.z < 0.0 {
+                -e
+            } else {
+                e
+            }
+        }
+        None => [DVec3::X, DVec3::Y, DVec3::Z]
+            .into_iter()
+            .find(|&u| across(u))
+            .unwrap_or_else(|| up.any_orthonormal_vector()),
+    };
+    let side_toward = right.cross(up);
+    // On top, the side view's right stays right.
+    let top_e2 = up.cross(right);
+    let (r, u) = (axis_name(right, "s"), axis_name(up, "height"));
+    [
+        View {
+            e1: right,
+            e2: up,
+            toward: side_toward,
+            names: [r.clone(), u.clone()],
+            file: "particles_side.png",
+            what: format!(
+                "from the side (along {}; gravity down)",
+                axis_name(-side_toward, "the view")
+            ),
+        },
+        View {
+            e1: right,
+            e2: top_e2,
+            toward: up,
+            names: [r, axis_name(top_e2, "t")],
+            file: "particles_top.png",
+            what: format!("from above (along gravity, {})", axis_name(-up, "g")),
+        },
+    ]
+}
 
 /// The walls as seen in `v`, within the domain: planes seen edge-on as lines, cylinders
 /// along the view as circles and across it as their two sides, spheres as circles.
 fn outlines(setup: &Setup, v: &View) -> Vec<Outline> {
     let (lo, hi) = (setup.domain.lo, setup.domain.hi);
-    let on = |p: DVec3| DVec2::new(p[v.axes[0]], p[v.axes[1]]);
+    // The domain's corners in the view: the box lines are cut to.
+    let frame = (0..8).fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(l, h), k| {
+            let c = DVec3::new(
+                if k & 1 == 0 { lo.x } else { hi.x },
+                if k & 2 == 0 { lo.y } else { hi.y },
+                if k & 4 == 0 { lo.z } else { hi.z },
+            );
+            let q = DVec2::new(c.dot(v.e1), c.dot(v.e2));
+            (l.min(q), h.max(q))
+        },
+    );
+    let on = |p: DVec3| DVec2::new(p.dot(v.e1), p.dot(v.e2));
     let circle = |c: DVec3, r: f64| Outline {
         points: (0..=128)
             .map(|k| {
@@ -155,7 +227,7 @@ fn outlines(setup: &Setup, v: &View) -> Vec<Outline> {
     };
     // The line through `p` along `u` (in view axes), cut to the domain's view.
     let line = |p: DVec2, u: DVec2| -> Option<Outline> {
-        let (l, h) = (on(lo), on(hi));
+        let (l, h) = (frame.0, frame.1);
         let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
         for a in 0..2 {
             if u[a].abs() < 1e-12 {
@@ -178,8 +250,8 @@ fn outlines(setup: &Setup, v: &View) -> Vec<Outline> {
         match w.shape {
             WallShape::Plane { point, normal } => {
                 let n = DVec3::from(normal).normalize();
-                if n[v.depth].abs() < 1e-9 {
-                    let along = DVec2::new(-n[v.axes[1]], n[v.axes[0]]);
+                if n.dot(v.toward).abs() < 1e-9 {
+                    let along = DVec2::new(-n.dot(v.e2), n.dot(v.e1));
                     out.extend(line(on(DVec3::from(point)), along));
                 }
             }
@@ -203,8 +275,8 @@ fn outlines(setup: &Setup, v: &View) -> Vec<Outline> {
                 };
                 if radius.is_finite() {
                     out.push(ring(radius));
-                } else if n[v.depth].abs() < 1e-9 {
-                    let along = DVec2::new(-n[v.axes[1]], n[v.axes[0]]).normalize();
+                } else if n.dot(v.toward).abs() < 1e-9 {
+                    let along = DVec2::new(-n.dot(v.e2), n.dot(v.e1)).normalize();
                     if let Some(l) = line(on(c), along) {
                         let t: Vec<f64> =
                             l.points.iter().map(|q| (*q - on(c)).dot(along)).collect();
@@ -219,7 +291,7 @@ fn outlines(setup: &Setup, v: &View) -> Vec<Outline> {
                     }
                 }
                 // Edge-on, an unbounded plate's hole is the gap in its line.
-                if hole > 0.0 && (radius.is_finite() || n[v.depth].abs() >= 1e-9) {
+                if hole > 0.0 && (radius.is_finite() || n.dot(v.toward).abs() >= 1e-9) {
                     out.push(ring(hole));
                 }
             }
@@ -257,9 +329,9 @@ fn outlines(setup: &Setup, v: &View) -> Vec<Outline> {
                 ..
             } => {
                 let u = DVec3::from(axis).normalize();
-                if (u[v.depth].abs() - 1.0).abs() < 1e-9 {
+                if (u.dot(v.toward).abs() - 1.0).abs() < 1e-9 {
                     out.push(circle(DVec3::from(point), radius));
-                } else if u[v.depth].abs() < 1e-9 {
+                } else if u.dot(v.toward).abs() < 1e-9 {
                     let along = on(u).normalize();
                     let side = DVec2::new(-along.y, along.x) * radius;
                     for s in [side, -side] {
@@ -287,16 +359,13 @@ pub fn write_plots(
     };
     crate::dem::plots::history_plots(dir, h, &walls, &["x", "y", "z"], &units)?;
     let p = &s.particles;
-    for v in &VIEWS {
+    for v in &views(setup) {
         // The far spheres first, so the near ones are drawn over them.
         let mut order: Vec<usize> = (0..p.len()).collect();
-        let toward: f64 = if v.depth == 1 { -1.0 } else { 1.0 };
-        order.sort_by(|&a, &b| {
-            (toward * p.pos[a][v.depth]).total_cmp(&(toward * p.pos[b][v.depth]))
-        });
+        order.sort_by(|&a, &b| p.pos[a].dot(v.toward).total_cmp(&p.pos[b].dot(v.toward)));
         let centres: Vec<DVec2> = order
             .iter()
-            .map(|&i| DVec2::new(p.pos[i][v.axes[0]], p.pos[i][v.axes[1]]))
+            .map(|&i| DVec2::new(p.pos[i].dot(v.e1), p.pos[i].dot(v.e2)))
             .collect();
         let radii: Vec<f64> = order.iter().map(|&i| p.radius[i]).collect();
         let speed: Vec<f64> = order.iter().map(|&i| p.vel[i].length()).collect();
@@ -312,7 +381,7 @@ pub fn write_plots(
             value_label: "speed (m/s)",
             outlines: &outlines(setup, v),
         }
-        .write_png_axes(&dir.join(v.file), v.names)?;
+        .write_png_axes(&dir.join(v.file), [&v.names[0], &v.names[1]])?;
     }
     Ok(())
 }
