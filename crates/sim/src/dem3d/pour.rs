@@ -190,6 +190,19 @@ impl Pour {
         self
     }
 
+    /// Spheres the pour will have poured when it stops (by its mass, at the mean
+    /// radius's mass, when it stops at a mass first).
+    pub fn planned(&self) -> u64 {
+        let r = 0.5 * (self.radii.0 + self.radii.1);
+        let by_mass = self
+            .mass
+            .map(|m| (m / grains_dem3d::math::mass(self.density, r)).ceil() as u64);
+        match (self.count, by_mass) {
+            (Some(n), Some(k)) => n.min(k),
+            (n, k) => n.or(k).unwrap_or(0),
+        }
+    }
+
     /// Spheres poured so far.
     pub fn inserted(&self) -> u64 {
         self.inserted

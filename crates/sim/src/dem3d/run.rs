@@ -80,7 +80,7 @@ fn fits(s: &Scenario, src: &Source, threads: usize) -> Result<(), String> {
 pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, String> {
     fits(s, src, threads)?;
     let a = assemble(s).map_err(|e| format!("{}: {e}", src.origin))?;
-    let n = a.particles.len() as u64;
+    let n = a.particles.len() as u64 + a.pour.as_ref().map_or(0, |p| p.planned());
     let walls = a.setup.walls.len();
     let law = if a.setup.granular.is_some() {
         "granular"
