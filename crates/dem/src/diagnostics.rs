@@ -2,7 +2,7 @@
 //! Nothing here changes the run (contact history included).
 
 use crate::comm::{Reduce, Serial};
-use crate::math::{AngVector, Components, Tangent, TangentOps, Vector};
+use crate::math::{AngVector, Components, Tangent, TangentOps, Vector, DIM};
 use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::step::State;
@@ -52,89 +52,120 @@ impl Diagnostics {
     }
 }
 
-/// Measures a state. Sums run over fixed chunks in order, so the figures do not depend
-/// on the thread count.
+/// Measures a state. Each particle's terms (its pairs with higher ids and its walls
+/// counted with it) are added in ascending id, so the figures depend neither on the
+/// thread count nor on where the particles are stored, on one rank or several.
 pub fn measure(setup: &Setup, s: &State) -> Diagnostics {
     measure_on(setup, s, &Serial)
 }
 
-/// [`measure`] of a state spread over ranks: each rank's figures are combined through
-/// `reduce`, in rank order.
+/// [`measure`] of a state spread over ranks, every stored particle counted.
 pub fn measure_on<R: Reduce + ?Sized>(setup: &Setup, s: &State, reduce: &R) -> Diagnostics {
     measure_where(setup, s, reduce, |_| true)
 }
 
+/// The summed terms of one particle: translational and rotational kinetic, potential
+/// and elastic energy, then momentum.
+const TERMS: usize = 4 + DIM;
+
 /// [`measure_on`] of a rank that `owns` some of the particles it stores (by index; the
 /// others are copies of another rank's, as in [`crate::decomp`]): its own particles'
-/// terms and wall contacts, and each touching pair once, on the rank that owns the
-/// pair's lower id.
+/// terms and wall contacts, and each touching pair once, with the particle of the lower
+/// id on the rank that owns it. The terms of every rank's particles are gathered and
+/// added in ascending id (docs/parallel.md, rule 2): the figures are the serial ones bit
+/// for bit on any rank count. (Each rank sends 1 + [`TERMS`] words per particle: the
+/// figures are taken at output times, not every step.)
 pub fn measure_where<R: Reduce + ?Sized>(
     setup: &Setup,
     s: &State,
     reduce: &R,
     owns: impl Fn(usize) -> bool + Sync,
 ) -> Diagnostics {
-    let d = measure_here(setup, s, &owns);
-    if reduce.ranks() == 1 {
-        return d;
+    let (mut d, terms) = measure_here(setup, s, &owns);
+    let p = &s.particles;
+    let mut by_id: Vec<(u32, [f64; TERMS])> = (0..p.len())
+        .filter(|&i| owns(i))
+        .map(|i| (p.id[i], terms[i]))
+        .collect();
+    if reduce.ranks() > 1 {
+        let words = by_id
+            .iter()
+            .flat_map(|(id, t)| std::iter::once(*id as u64).chain(t.iter().map(|x| x.to_bits())))
+            .collect();
+        by_id = reduce
+            .gather(words)
+            .chunks_exact(1 + TERMS)
+            .map(|w| {
+                (
+                    w[0] as u32,
+                    std::array::from_fn(|k| f64::from_bits(w[1 + k])),
+                )
+            })
+            .collect();
+        let mut counts = [
+            d.pair_contacts as u64,
+            d.wall_contacts as u64,
+            !d.finite as u64,
+        ];
+        reduce.sum_u64(&mut counts);
+        let mut worst = [d.max_overlap_ratio];
+        reduce.max(&mut worst);
+        d.pair_contacts = counts[0] as usize;
+        d.wall_contacts = counts[1] as usize;
+        d.finite = counts[2] == 0;
+        d.max_overlap_ratio = worst[0];
     }
-    let mut sums: Vec<f64> = [
-        d.kinetic_translational,
-        d.kinetic_rotational,
-        d.potential,
-        d.elastic,
-    ]
-    .into_iter()
-    .chain((0..Vector::N).map(|a| d.momentum.get(a)))
-    .collect();
-    reduce.sum(&mut sums);
-    let mut counts = [
-        d.pair_contacts as u64,
-        d.wall_contacts as u64,
-        !d.finite as u64,
-    ];
-    reduce.sum_u64(&mut counts);
-    let mut worst = [d.max_overlap_ratio];
-    reduce.max(&mut worst);
-    Diagnostics {
-        kinetic_translational: sums[0],
-        kinetic_rotational: sums[1],
-        potential: sums[2],
-        elastic: sums[3],
-        momentum: Vector::from_slice(&sums[4..]),
-        pair_contacts: counts[0] as usize,
-        wall_contacts: counts[1] as usize,
-        max_overlap_ratio: worst[0],
-        finite: counts[2] == 0,
+    by_id.par_sort_unstable_by_key(|r| r.0);
+    let mut sum = [0.0; TERMS];
+    for (_, t) in &by_id {
+        for (a, b) in sum.iter_mut().zip(t) {
+            *a += b;
+        }
     }
+    d.kinetic_translational = sum[0];
+    d.kinetic_rotational = sum[1];
+    d.potential = sum[2];
+    d.elastic = sum[3];
+    d.momentum = Vector::from_slice(&sum[4..]);
+    d
 }
 
-/// This rank's figures.
-fn measure_here(setup: &Setup, s: &State, owns: &(impl Fn(usize) -> bool + Sync)) -> Diagnostics {
+/// This rank's counts and extremes, and each stored particle's terms (zero for one it
+/// does not own).
+fn measure_here(
+    setup: &Setup,
+    s: &State,
+    owns: &(impl Fn(usize) -> bool + Sync),
+) -> (Diagnostics, Vec<[f64; TERMS]>) {
     let p = &s.particles;
     let list = &s.contacts;
     let n = p.len();
-    let parts: Vec<Diagnostics> = (0..n.div_ceil(CHUNK))
-        .into_par_iter()
-        .map(|c| {
+    let mut terms = vec![[0.0; TERMS]; n];
+    let parts: Vec<Diagnostics> = terms
+        .par_chunks_mut(CHUNK)
+        .enumerate()
+        .map(|(c, out)| {
             let mut d = Diagnostics {
                 finite: true,
                 ..Default::default()
             };
-            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+            for (k, t) in out.iter_mut().enumerate() {
+                let i = c * CHUNK + k;
                 let mine = owns(i);
+                // This particle's figures alone, then its pairs' and walls' energy.
+                let mut e = Diagnostics::default();
                 if mine {
                     let m = p.mass(i);
                     let v = p.vel[i];
-                    d.kinetic_translational += 0.5 * m * v.length_squared();
-                    d.kinetic_rotational += 0.5 * p.omega[i].dot(p.omega[i]) / p.inv_inertia[i];
-                    d.potential -= m * setup.gravity.dot(p.pos[i]);
-                    d.momentum += m * v;
+                    e.kinetic_translational = 0.5 * m * v.length_squared();
+                    e.kinetic_rotational = 0.5 * p.omega[i].dot(p.omega[i]) / p.inv_inertia[i];
+                    e.potential = -m * setup.gravity.dot(p.pos[i]);
+                    e.momentum = m * v;
                     d.finite &= p.pos[i].is_finite() && v.is_finite() && p.omega[i].finite();
                 }
                 let mi = p.material[i] as usize;
-                for e in list.row[i] as usize..list.row[i + 1] as usize {
-                    let j = list.nbr[e] as usize;
+                for e_ in list.row[i] as usize..list.row[i + 1] as usize {
+                    let j = list.nbr[e_] as usize;
                     // A pair across ranks is stored on both: its lower id's owner counts it.
                     if !owns(if p.id[i] < p.id[j] { i } else { j }) {
                         continue;
@@ -143,7 +174,7 @@ fn measure_here(setup: &Setup, s: &State, owns: &(impl Fn(usize) -> bool + Sync)
                     let overlap = p.radius[i] + p.radius[j] - dist;
                     if overlap > 0.0 {
                         let mj = p.material[j] as usize;
-                        d.elastic += match (&setup.granular, list.granular(e)) {
+                        e.elastic += match (&setup.granular, list.granular(e_)) {
                             (Some(t), Some(h)) => {
                                 let (ri, rj) = (p.radius[i], p.radius[j]);
                                 let r_eff = ri * rj / (ri + rj);
@@ -152,7 +183,7 @@ fn measure_here(setup: &Setup, s: &State, owns: &(impl Fn(usize) -> bool + Sync)
                             _ => {
                                 let pp = setup.pairs.get(mi, mj);
                                 0.5 * pp.kn * overlap * overlap
-                                    + 0.5 * pp.kt * list.shear[e].dot(list.shear[e])
+                                    + 0.5 * pp.kt * list.shear[e_].dot(list.shear[e_])
                             }
                         };
                         d.pair_contacts += 1;
@@ -161,7 +192,16 @@ fn measure_here(setup: &Setup, s: &State, owns: &(impl Fn(usize) -> bool + Sync)
                     }
                 }
                 if mine {
-                    wall_terms(setup, s, i, &mut d);
+                    wall_terms(setup, s, i, &mut e);
+                    d.wall_contacts += e.wall_contacts;
+                    d.max_overlap_ratio = d.max_overlap_ratio.max(e.max_overlap_ratio);
+                }
+                t[0] = e.kinetic_translational;
+                t[1] = e.kinetic_rotational;
+                t[2] = e.potential;
+                t[3] = e.elastic;
+                for a in 0..DIM {
+                    t[4 + a] = e.momentum.get(a);
                 }
             }
             d
@@ -172,17 +212,12 @@ fn measure_here(setup: &Setup, s: &State, owns: &(impl Fn(usize) -> bool + Sync)
         ..Default::default()
     };
     for d in parts {
-        total.kinetic_translational += d.kinetic_translational;
-        total.kinetic_rotational += d.kinetic_rotational;
-        total.potential += d.potential;
-        total.elastic += d.elastic;
-        total.momentum += d.momentum;
         total.pair_contacts += d.pair_contacts;
         total.wall_contacts += d.wall_contacts;
         total.max_overlap_ratio = total.max_overlap_ratio.max(d.max_overlap_ratio);
         total.finite &= d.finite;
     }
-    total
+    (total, terms)
 }
 
 fn wall_terms(setup: &Setup, s: &State, i: usize, d: &mut Diagnostics) {

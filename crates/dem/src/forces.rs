@@ -119,10 +119,11 @@ impl PairLookup for PairTable {
 }
 
 /// Evaluates every listed pair and advances the tangential springs by `dt` (0 to only
-/// evaluate). Each particle's force and torque are set to the sum of its contacts within
-/// its chunk (both sides of a pair are applied at once); an entry whose partner lies in
-/// another chunk keeps its force (`fpair`, `ftan`) for `walls_gather_kick` to add to the
-/// partner. Chunks are fixed, so the order of every sum is the same for any thread count.
+/// evaluate). Each particle's force and torque are set to the sum of its own row's
+/// contacts, in row order (ascending partner id); every entry keeps its force (`fpair`,
+/// `ftan`) for `walls_gather_kick` to subtract from the partner in ascending owner id.
+/// A particle's force is so summed in an order of ids, the same for any thread count,
+/// rank count or storage order ([`ContactList`]).
 /// With a `ledger`, the energy the contacts dissipate in this pass is added to it
 /// (see [`crate::ledger`]); the forces are the same either way.
 pub fn pair_contacts(
@@ -145,6 +146,9 @@ pub fn pair_contacts_on<R: Reduce + ?Sized>(
     ledger: Option<&mut EnergyLedger>,
     reduce: &R,
 ) {
+    if list.rev_entry.len() != list.nbr.len() {
+        list.index_reverse(&p.id);
+    }
     if let Some(table) = &setup.granular {
         // The ledger's split is the linear law's; the granular law keeps none.
         crate::granular_pass::pair_contacts(setup, table, p, list, dt);
@@ -310,6 +314,9 @@ struct Block {
     f: [[f64; BLOCK]; DIM],
     /// n × F_t, the torque on i and on j per unit radius.
     ft: [[f64; BLOCK]; ANG],
+    /// The row being summed: its owner (`usize::MAX`: none), force and torque per unit
+    /// radius so far.
+    row: (usize, Vector, AngVector),
 }
 
 /// The ledger's terms per pair of a block, and its chunk's sums (with the ledger only:
@@ -338,6 +345,7 @@ impl Block {
             xi: [[0.0; BLOCK]; TAN],
             f: [[0.0; BLOCK]; DIM],
             ft: [[0.0; BLOCK]; ANG],
+            row: (usize::MAX, Vector::ZERO, AngVector::default()),
         })
     }
 }
@@ -387,11 +395,9 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
             b.rsum[t] = rsum;
             c.shear[k].write(&mut b.xi, t);
             c.shear[k] = Tangent::default();
-            if j >= c.range.end {
-                // Only cross-chunk entries carry their force out of the pass.
-                c.fpair[k] = Vector::ZERO;
-                c.ftan[k] = AngVector::default();
-            }
+            // Every entry carries its force out of the pass (zero unless it touches).
+            c.fpair[k] = Vector::ZERO;
+            c.ftan[k] = AngVector::default();
             len += touching as usize;
             if len == BLOCK {
                 b.len = len;
@@ -401,6 +407,7 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
         }
         b.len = len;
         self.flush(&mut b, c, tally.as_deref_mut());
+        self.settle(&mut b, c);
         tally.map_or_else(PassTally::default, |tl| tl.sum)
     }
 
@@ -501,20 +508,19 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
         }
     }
 
-    /// Adds the block's forces to its particles in entry order.
+    /// Adds the block's forces to their row owners in entry order and leaves each in its
+    /// entry for the partner.
     fn scatter(&self, b: &mut Block, c: &mut Chunk) {
         let n = b.len.min(BLOCK);
-        let (first, end) = (c.range.start, c.range.end);
         // A block holds rows in order, so the row owner's sums stay in registers until
-        // the owner changes.
-        let (mut owner, mut f_own, mut t_own) = (usize::MAX, Vector::ZERO, AngVector::default());
+        // the owner changes, and are carried into the next block: a row is summed entry
+        // by entry wherever a block ends.
+        let (mut owner, mut f_own, mut t_own) = b.row;
         for t in 0..n {
-            let (i, j, k) = (b.i[t] as usize, b.j[t] as usize, b.entry[t] as usize);
+            let (i, k) = (b.i[t] as usize, b.entry[t] as usize);
             if i != owner {
-                if owner != usize::MAX {
-                    c.force[owner - first] += f_own;
-                    c.torque[owner - first] += self.radius[owner] * t_own;
-                }
+                b.row = (owner, f_own, t_own);
+                self.settle(b, c);
                 (owner, f_own, t_own) = (i, Vector::ZERO, AngVector::default());
             }
             let fv = Vector::read(&b.f, t);
@@ -522,19 +528,22 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
             c.shear[k] = Tangent::read(&b.xi, t);
             f_own += fv;
             t_own += ft;
-            if j < end {
-                c.force[j - first] -= fv;
-                c.torque[j - first] += self.radius[j] * ft;
-            } else {
-                c.fpair[k] = fv;
-                c.ftan[k] = ft;
-            }
+            c.fpair[k] = fv;
+            c.ftan[k] = ft;
         }
-        if owner != usize::MAX {
-            c.force[owner - first] += f_own;
-            c.torque[owner - first] += self.radius[owner] * t_own;
-        }
+        b.row = (owner, f_own, t_own);
         b.len = 0;
+    }
+
+    /// Writes the sums of the row in progress to its owner.
+    #[inline(always)]
+    fn settle(&self, b: &mut Block, c: &mut Chunk) {
+        let (owner, f_own, t_own) = b.row;
+        if owner != usize::MAX {
+            c.force[owner - c.range.start] = f_own;
+            c.torque[owner - c.range.start] = self.radius[owner] * t_own;
+        }
+        b.row = (usize::MAX, Vector::ZERO, AngVector::default());
     }
 }
 

@@ -3,10 +3,11 @@
 //! fixed chunks as the linear law's pass ([`crate::forces`]), so the sums are the same
 //! for any thread count.
 //!
-//! Unlike the linear law, the two bodies' torques differ by more than their radii (the
-//! arms are R − δ/2 and rolling and twisting add a couple), so an entry whose partner
-//! lies in another chunk leaves the partner's torque divided by its radius in `ftan`,
-//! which `walls_gather_kick` multiplies back.
+//! As there, a row's forces go to its owner in row order and every entry leaves the
+//! partner's share for `walls_gather_kick` (the order of ids: [`ContactList`]). Unlike
+//! the linear law, the two bodies' torques differ by more than their radii (the arms are
+//! R − δ/2 and rolling and twisting add a couple), so an entry leaves the partner's
+//! torque divided by its radius in `ftan`, which `walls_gather_kick` multiplies back.
 
 use crate::contact::PairTable;
 use crate::domain::Image;
@@ -136,7 +137,7 @@ struct Ctx<'a, const P: u8> {
 impl<const P: u8> Ctx<'_, P> {
     /// Any law, one entry at a time through [`respond`].
     fn scalar(&self, uniform: Option<&GranularParams>, c: &mut Chunk) {
-        let (first, end) = (c.range.start, c.range.end);
+        let first = c.range.start;
         let base = self.row[first] as usize;
         let (pos, vel, omega, radius, inv_mass) =
             (self.pos, self.vel, self.omega, self.radius, self.inv_mass);
@@ -145,10 +146,8 @@ impl<const P: u8> Ctx<'_, P> {
         c.torque.fill(AngVector::default());
         for k in 0..c.slot.len() {
             let (i, j) = (self.owner[base + k] as usize, self.nbr[base + k] as usize);
-            if j >= end {
-                c.fpair[k] = Vector::ZERO;
-                c.ftan[k] = AngVector::default();
-            }
+            c.fpair[k] = Vector::ZERO;
+            c.ftan[k] = AngVector::default();
             let d = self.image.apply(pos[j] - pos[i]);
             let (ri, rj) = (radius[i], radius[j]);
             let rsum = ri + rj;
@@ -178,13 +177,8 @@ impl<const P: u8> Ctx<'_, P> {
             c.force[i - first] += r.force;
             c.torque[i - first] += (ri - half) * r.moment + r.couple;
             let tj = (rj - half) * r.moment - r.couple;
-            if j < end {
-                c.force[j - first] -= r.force;
-                c.torque[j - first] += tj;
-            } else {
-                c.fpair[k] = r.force;
-                c.ftan[k] = tj * (1.0 / rj);
-            }
+            c.fpair[k] = r.force;
+            c.ftan[k] = tj * (1.0 / rj);
         }
     }
 
@@ -192,18 +186,15 @@ impl<const P: u8> Ctx<'_, P> {
     /// entries are gathered into blocks and the law runs over each block's arrays
     /// ([`Plain::respond`]), the same operations as [`respond`], so the same bits.
     fn blocked(&self, law: &Plain, c: &mut Chunk) {
-        let (first, end) = (c.range.start, c.range.end);
-        let base = self.row[first] as usize;
+        let base = self.row[c.range.start] as usize;
         c.force.fill(Vector::ZERO);
         c.torque.fill(AngVector::default());
         let mut b = Block::new();
         let mut len = 0usize;
         for k in 0..c.slot.len() {
             let (i, j) = (self.owner[base + k] as usize, self.nbr[base + k] as usize);
-            if j >= end {
-                c.fpair[k] = Vector::ZERO;
-                c.ftan[k] = AngVector::default();
-            }
+            c.fpair[k] = Vector::ZERO;
+            c.ftan[k] = AngVector::default();
             let d = self.image.apply(self.pos[j] - self.pos[i]);
             let rsum = self.radius[i] + self.radius[j];
             let dist2 = d.length_squared();
@@ -255,7 +246,7 @@ impl<const P: u8> Ctx<'_, P> {
         }
         let first = c.range.start;
         for t in 0..n {
-            let (i, j, k) = (b.i[t] as usize, b.j[t] as usize, b.entry[t] as usize);
+            let (i, k) = (b.i[t] as usize, b.entry[t] as usize);
             let f = Vector::read(&b.f, t);
             let tj = AngVector::read(&b.tj, t);
             let xi = Tangent::read(&b.xi, t);
@@ -265,13 +256,8 @@ impl<const P: u8> Ctx<'_, P> {
             }
             c.force[i - first] += f;
             c.torque[i - first] += AngVector::read(&b.ti, t);
-            if j < c.range.end {
-                c.force[j - first] -= f;
-                c.torque[j - first] += tj;
-            } else {
-                c.fpair[k] = f;
-                c.ftan[k] = tj * (1.0 / b.rj[t]);
-            }
+            c.fpair[k] = f;
+            c.ftan[k] = tj * (1.0 / b.rj[t]);
         }
     }
 }

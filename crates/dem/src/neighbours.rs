@@ -18,8 +18,15 @@ pub use crate::history::GranularHistory;
 use crate::history::Histories;
 use rayon::prelude::*;
 
-/// Half neighbour list (each pair once, owned by the lower index) with per-entry
-/// contact state, plus per-particle wall state.
+/// Half neighbour list (each pair once, in the row of its lower id, each row in
+/// ascending partner id) with per-entry contact state, plus per-particle wall state.
+///
+/// The order is one of ids, not of storage, so that a particle's force is the same sum
+/// in the same order whichever particles sit beside it in memory: on one rank or
+/// several, in any chunking (docs/parallel.md, rule 1). The pair pass adds a row's
+/// forces to its owner in row order (ascending partner id) and leaves every entry's
+/// force in `fpair`; `walls_gather_kick` then subtracts the reactions in `rev_entry`
+/// order (ascending owner id).
 #[derive(Clone, Debug, Default)]
 pub struct ContactList {
     /// Entries of particle i are `row[i]..row[i+1]` (length N + 1).
@@ -33,16 +40,15 @@ pub struct ContactList {
     /// Tangential spring displacement ξ of each entry (m); zero when not touching.
     pub shear: Vec<Tangent>,
     /// Force on the row owner from this entry at the last evaluation (the partner gets
-    /// the opposite). Kept only for entries whose partner lies in another chunk; the
-    /// pair pass applies the others directly.
+    /// the opposite); zero when the pair does not touch.
     pub fpair: Vec<Vector>,
-    /// n × F_t of this entry (each side's torque is its radius times this); kept, like
-    /// `fpair`, for cross-chunk entries.
+    /// The partner's torque from this entry per unit of its radius (the linear law: n ×
+    /// F_t, each side's torque being its radius times this).
     pub ftan: Vec<AngVector>,
-    /// Cross-chunk entries in which particle j is the partner are
-    /// `rev_entry[rev_row[j]..rev_row[j+1]]`, in increasing entry order.
+    /// The entries in which particle j is the partner are
+    /// `rev_entry[rev_row[j]..rev_row[j+1]]`, in ascending id of their row owner.
     pub rev_row: Vec<u32>,
-    /// Cross-chunk entry indices, grouped by partner.
+    /// Entry indices, grouped by partner.
     pub rev_entry: Vec<u32>,
     /// Bit w is set when wall w may touch the particle before the next rebuild.
     pub wall_near: Vec<u64>,
@@ -279,7 +285,7 @@ impl ContactList {
         self.fpair.resize(m, Vector::ZERO);
         self.ftan.clear();
         self.ftan.resize(m, AngVector::default());
-        self.build_reverse(n);
+        self.index_reverse(&particles.id);
         self.history = match old_granular {
             Some(old) => Histories::from_entries(&self.owner, n.div_ceil(CHUNK), |e| {
                 let (i, j) = (self.owner[e] as usize, self.nbr[e] as usize);
@@ -367,32 +373,35 @@ impl ContactList {
         })
     }
 
-    /// Indexes, by partner, the entries whose partner lies in another chunk than the
-    /// row owner: only their reactions are gathered after the pair pass.
-    fn build_reverse(&mut self, n: usize) {
+    /// Makes `owner` from `row`, then indexes every entry by partner, each partner's
+    /// entries in ascending id of their owner (`id`: the particles' ids). Also what a
+    /// list read back from an older checkpoint, whose index held cross-chunk entries
+    /// only, is given before its first pass.
+    pub fn index_reverse(&mut self, id: &[u32]) {
         self.index_owners();
-        let owner = &self.owner;
-        let cross = |e: usize, j: u32| owner[e] as usize / CHUNK != j as usize / CHUNK;
+        let n = self.row.len().saturating_sub(1);
         let mut count = vec![0u32; n + 1];
-        for (e, &j) in self.nbr.iter().enumerate() {
-            if cross(e, j) {
-                count[j as usize + 1] += 1;
-            }
+        for &j in &self.nbr {
+            count[j as usize + 1] += 1;
         }
         for k in 0..n {
             count[k + 1] += count[k];
         }
         self.rev_row.clone_from(&count);
         self.rev_entry.clear();
-        self.rev_entry.resize(self.rev_row[n] as usize, 0);
+        self.rev_entry.resize(self.nbr.len(), 0);
         let mut fill = count;
         for (e, &j) in self.nbr.iter().enumerate() {
-            if !cross(e, j) {
-                continue;
-            }
             let slot = &mut fill[j as usize];
             self.rev_entry[*slot as usize] = e as u32;
             *slot += 1;
+        }
+        let (owner, rev_row) = (&self.owner, &self.rev_row);
+        let mut rest = &mut self.rev_entry[..];
+        for j in 0..n {
+            let (group, tail) = rest.split_at_mut((rev_row[j + 1] - rev_row[j]) as usize);
+            group.sort_unstable_by_key(|&e| id[owner[e as usize] as usize]);
+            rest = tail;
         }
     }
 
@@ -520,43 +529,38 @@ fn build_rows(
     let mut lens = Vec::with_capacity(range.len());
     let mut nbr = Vec::with_capacity(range.len() * 4);
     let mut shear = Vec::with_capacity(range.len() * 4);
-    // The particles are sorted by cell, so a cell with a lower index holds only lower
-    // indices (pairs its own rows list) and a higher one only higher: each row scans
-    // its own cell past itself and the stencil's higher cells, about half the stencil.
-    // Consecutive rows share a cell, so the stencil is found once per cell.
+    // Each row scans the whole stencil and keeps the partners of higher id, so a pair
+    // is listed by its lower id wherever the two are stored; consecutive rows share a
+    // cell, so the stencil is found once per cell.
     let mut cell = usize::MAX;
-    let mut ahead = ([0usize; STENCIL], 0usize);
+    let mut around = ([0usize; STENCIL], 0usize);
+    let mut row: Vec<(u32, u32, Tangent)> = Vec::with_capacity(16);
     for i in range {
-        let before = nbr.len();
         let at = grid.coords(p.pos[i]);
         let c = grid.index(at);
         if c != cell {
             cell = c;
-            let (around, k) = grid.around(at);
-            ahead.1 = 0;
-            for &a in &around[..k] {
-                if a >= c {
-                    ahead.0[ahead.1] = a;
-                    ahead.1 += 1;
-                }
-            }
+            around = grid.around(at);
         }
-        for &a in &ahead.0[..ahead.1] {
-            let from = if a == c {
-                i + 1
-            } else {
-                cell_start[a] as usize
-            };
-            for j in from..cell_start[a + 1] as usize {
+        let me = p.id[i];
+        row.clear();
+        for &a in &around.0[..around.1] {
+            for j in cell_start[a] as usize..cell_start[a + 1] as usize {
+                if p.id[j] <= me {
+                    continue;
+                }
                 let cut = p.radius[i] + p.radius[j] + setup.skin;
                 let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
                 if d.length_squared() < cut * cut {
-                    nbr.push(j as u32);
-                    shear.push(old.get(perm[i], p.id[j]).copied().unwrap_or_default());
+                    let xi = old.get(perm[i], p.id[j]).copied().unwrap_or_default();
+                    row.push((p.id[j], j as u32, xi));
                 }
             }
         }
-        lens.push((nbr.len() - before) as u32);
+        row.sort_unstable_by_key(|e| e.0);
+        nbr.extend(row.iter().map(|e| e.1));
+        shear.extend(row.iter().map(|e| e.2));
+        lens.push(row.len() as u32);
     }
     (lens, nbr, shear)
 }
