@@ -109,8 +109,8 @@ fn a_3d_collision_resumed_keeps_its_checks() {
 }
 
 /// A wall that moves is where the straight run's steps left it after a resume: the
-/// column's floor rising under it (a checkpoint holds the particles, not the walls,
-/// so the resumed run replays the wall's steps).
+/// column's floor rising under it (the checkpoint keeps each wall's pose, which the
+/// resumed run places the wall at).
 #[test]
 fn a_moving_wall_resumed_is_where_the_straight_run_left_it() {
     let tmp = tempfile::tempdir().unwrap();

@@ -1,6 +1,7 @@
 //! Exact binary snapshots of a [`State`], so a run can stop and continue bitwise as if it
 //! had never stopped: every particle field, the neighbour list in its current order with
-//! its tangential history, wall springs and expanding frame, and the last wall loads.
+//! its tangential history, wall springs and expanding frame, the last wall loads and
+//! where each wall has got to (its pose: a moving wall is placed, not replayed).
 //!
 //! Layout: a sequence of tagged little-endian arrays ([`grains_core::snapshot`]), in a
 //! fixed order. Readers check every length against the particle and
@@ -14,6 +15,7 @@ use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::step::State;
 use crate::verlet::Comoving;
+use crate::walls::Pose;
 pub use grains_core::snapshot::SnapshotError;
 use grains_core::snapshot::{get_f64, get_u32, get_u64, put_f64, put_u32, put_u64};
 use std::io::{self, Read, Write};
@@ -72,7 +74,17 @@ pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
         .flat_map(|h| h.into_iter())
         .collect();
     put_f64(w, &history)?;
-    put_f64(w, c.wall_history.as_flattened())
+    put_f64(w, c.wall_history.as_flattened())?;
+    let poses: Vec<f64> = state
+        .walls
+        .iter()
+        .flat_map(|p| {
+            let mut v = Vector::flatten(&[p.at]);
+            v.extend(AngVector::flatten(&[p.angle]));
+            v
+        })
+        .collect();
+    put_f64(w, &poses)
 }
 
 /// Whether a state read back fits the set-up it is to run with: its materials and walls.
@@ -92,6 +104,13 @@ pub fn fits(state: &State, setup: &Setup) -> Result<(), SnapshotError> {
         return Err(SnapshotError::Invalid(format!(
             "{} walls, the set-up has {}",
             state.contacts.n_walls,
+            setup.walls.len()
+        )));
+    }
+    if state.walls.len() != setup.walls.len() {
+        return Err(SnapshotError::Invalid(format!(
+            "{} wall poses, the set-up has {} walls",
+            state.walls.len(),
             setup.walls.len()
         )));
     }
@@ -280,6 +299,16 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
         }),
     };
     c.wall_history = rows(wall_history);
+    let pose = Vector::N + AngVector::N;
+    let walls = get_f64(r, pose * n_walls)?;
+    same("wall poses", walls.len(), pose * n_walls)?;
+    let walls = walls
+        .chunks_exact(pose)
+        .map(|p| Pose {
+            at: Vector::from_slice(p),
+            angle: AngVector::from_slice(&p[Vector::N..]),
+        })
+        .collect();
     let wall_loads = loads
         .chunks_exact(stride)
         .map(|l| WallLoad {
@@ -297,5 +326,6 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
         // The energy ledger is an optional measurement, not part of the snapshot: a
         // resumed run that wants one starts it afresh.
         ledger: None,
+        walls,
     })
 }

@@ -14,6 +14,7 @@ use crate::math::{AngVector, Vector};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
+use crate::walls::Pose;
 
 /// Everything that evolves during a run.
 #[derive(Clone, Debug, Default)]
@@ -30,6 +31,8 @@ pub struct State {
     pub step: u64,
     /// The contacts' energy ledger, kept while `Some` (see [`crate::ledger`]).
     pub ledger: Option<EnergyLedger>,
+    /// Where each wall has got to ([`crate::walls::advance_walls`]).
+    pub walls: Vec<Pose>,
 }
 
 impl State {
@@ -38,6 +41,7 @@ impl State {
     pub fn new(setup: &Setup, particles: Particles) -> Self {
         let mut s = State {
             particles,
+            walls: crate::walls::poses(setup),
             ..Default::default()
         };
         s.contacts.rebuild(setup, &mut s.particles);

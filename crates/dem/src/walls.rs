@@ -6,6 +6,8 @@
 
 pub use crate::math::WallShape;
 use crate::math::{AngVector, Vector};
+use crate::setup::Setup;
+use crate::step::State;
 
 /// How a wall moves: its surface at `x` moves at `velocity + omega × (x − reference)`
 /// (about [`WallShape::reference`]). A translating wall is carried along by
@@ -61,6 +63,56 @@ impl Wall {
         if self.translates() {
             self.shape.translate(self.motion.velocity * dt);
         }
+    }
+}
+
+/// Where a wall has got to: engine state ([`State::walls`]), advanced by
+/// [`advance_walls`] and kept in checkpoints, so that a resumed run places its walls
+/// where the straight run left them instead of replaying their steps.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Pose {
+    /// The wall's reference point ([`WallShape::reference`]) now; its offset is this
+    /// less the reference point the scenario gave.
+    pub at: Vector,
+    /// Angle turned through about the reference point (rad; in 3D a vector along the
+    /// spin axis, ∫ ω dt, which is exact as a wall turns about a fixed axis).
+    pub angle: AngVector,
+}
+
+/// Each wall's pose where the set-up has it, turned through no angle.
+pub fn poses(setup: &Setup) -> Vec<Pose> {
+    setup
+        .walls
+        .iter()
+        .map(|w| Pose {
+            at: w.shape.reference(),
+            angle: AngVector::default(),
+        })
+        .collect()
+}
+
+/// Carries every moving wall through a step `dt`: its pose advanced, its shape placed
+/// there. Called before the step, whose forces are those at its end, t + dt. The pose
+/// is advanced as the shape itself used to be (`at + v dt`), so runs keep their bits.
+pub fn advance_walls(setup: &mut Setup, state: &mut State, dt: f64) {
+    if state.walls.len() != setup.walls.len() {
+        state.walls = poses(setup);
+    }
+    for (w, pose) in setup.walls.iter_mut().zip(&mut state.walls) {
+        if w.translates() {
+            pose.at += w.motion.velocity * dt;
+            w.shape.place(pose.at);
+        }
+        if w.motion.omega != AngVector::default() {
+            pose.angle += w.motion.omega * dt;
+        }
+    }
+}
+
+/// Places every wall's shape at its pose in `state` (a run resumed from a checkpoint).
+pub fn place_walls(setup: &mut Setup, state: &State) {
+    for (w, pose) in setup.walls.iter_mut().zip(&state.walls) {
+        w.shape.place(pose.at);
     }
 }
 
@@ -225,6 +277,8 @@ mod tests3 {
         w.motion.velocity = DVec3::new(0.0, 0.0, 0.5);
         w.advance(0.2);
         assert_eq!(w.shape.reference(), DVec3::new(0.0, 0.0, 0.1));
+        w.shape.place(DVec3::new(1.0, 0.0, 0.0));
+        assert_eq!(w.shape.reference(), DVec3::X);
     }
 }
 

@@ -14,7 +14,7 @@ use std::path::Path;
 pub const FILE: &str = "checkpoint.bin";
 
 const MAGIC: &[u8; 8] = b"GRAINSCK";
-const VERSION: u32 = 4;
+const VERSION: u32 = 5;
 
 /// The run loop's side of a checkpoint.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]

@@ -162,6 +162,15 @@ impl WallShape {
         }
     }
 
+    /// Puts the wall's reference point ([`Self::reference`]) at `at` (a segment is
+    /// carried by the difference, which rounds: no 2D front end moves walls yet).
+    pub fn place(&mut self, at: Vector) {
+        match self {
+            WallShape::Segment { .. } => self.translate(at - self.reference()),
+            WallShape::Circle { centre, .. } => *centre = at.to_array(),
+        }
+    }
+
     /// Points along the wall for drawing (a segment: its ends; a circle: a polygon).
     pub fn outline(&self) -> Vec<DVec2> {
         match *self {

@@ -220,13 +220,22 @@ impl WallShape {
 
     /// Carries the wall by `d`.
     pub fn translate(&mut self, d: Vector) {
-        let p = match self {
+        let p = self.reference_mut();
+        *p = (DVec3::from(*p) + d).to_array();
+    }
+
+    /// Puts the wall's reference point ([`Self::reference`]) at `at`.
+    pub fn place(&mut self, at: Vector) {
+        *self.reference_mut() = at.to_array();
+    }
+
+    fn reference_mut(&mut self) -> &mut [f64; 3] {
+        match self {
             WallShape::Plane { point, .. } | WallShape::Cylinder { point, .. } => point,
             WallShape::Disk { centre, .. }
             | WallShape::Rectangle { centre, .. }
             | WallShape::Sphere { centre, .. } => centre,
-        };
-        *p = (DVec3::from(*p) + d).to_array();
+        }
     }
 }
 

@@ -69,13 +69,8 @@ impl Dem3 {
 
     /// Continues from a checkpointed state.
     pub fn resumed(mut setup: Setup, state: State, dt: f64) -> Self {
-        // A translating wall is where the straight run's steps put it: the same
-        // additions replayed give the same bits.
-        for w in &mut setup.walls {
-            for _ in 0..state.step {
-                w.advance(dt);
-            }
-        }
+        // The walls where the state has them (its poses: the straight run's bits).
+        grains_dem3d::walls::place_walls(&mut setup, &state);
         Dem3 {
             setup,
             state,
@@ -99,9 +94,7 @@ impl Simulation for Dem3 {
 
     fn advance(&mut self) -> Result<(), String> {
         // The walls first: the step's forces are those at its end, t + dt.
-        for w in &mut self.setup.walls {
-            w.advance(self.dt);
-        }
+        grains_dem3d::walls::advance_walls(&mut self.setup, &mut self.state, self.dt);
         if self.outside.is_empty() {
             step(&self.setup, &mut self.state, self.dt);
         } else {
