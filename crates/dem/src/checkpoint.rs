@@ -247,8 +247,6 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
             "reverse rows do not index the reverse entries".into(),
         ));
     }
-    // Derived, not stored; the rows were checked above.
-    c.index_owners();
     // Ids index the springs' history at the next rebuild: each of 0..n once.
     let mut seen = vec![false; n];
     for &i in &p.id {
@@ -261,6 +259,11 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
             }
         }
     }
+    // The owners and the reverse index are derived from the rows and the ids: made
+    // here, not trusted from the file, so that a checkpoint written before the pass
+    // summed in id order (its reverse index held cross-chunk entries only, in storage
+    // order) resumes in id order too.
+    c.index_reverse(&p.id);
     if n_walls < 64 && c.wall_near.iter().any(|&m| m >> n_walls != 0) {
         return Err(SnapshotError::Invalid(format!(
             "a particle is near a wall beyond the {n_walls} walls"

@@ -146,9 +146,6 @@ pub fn pair_contacts_on<R: Reduce + ?Sized>(
     ledger: Option<&mut EnergyLedger>,
     reduce: &R,
 ) {
-    if list.rev_entry.len() != list.nbr.len() {
-        list.index_reverse(&p.id);
-    }
     if let Some(table) = &setup.granular {
         // The ledger's split is the linear law's; the granular law keeps none.
         crate::granular_pass::pair_contacts(setup, table, p, list, dt);
