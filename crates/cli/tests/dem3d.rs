@@ -107,6 +107,22 @@ fn pour_small() {
     assert_eq!(s["poured"], 300, "{s}");
 }
 
+/// The small column collapses once its tube is released: the tube carries no load at
+/// the end, and the run-out matches Lube et al.'s within the example's tolerance.
+#[test]
+fn collapse_small() {
+    let (s, header) = run_dem3d_example("collapse_small", 1);
+    assert!(header.contains("tube_fx"), "{header}");
+    let f = &s["figures"];
+    let a = f["runout_over_lube_aspect_ratio"].as_f64().unwrap();
+    assert!(a > 1.0 && a < 1.7, "{s}");
+    let (r0, r) = (
+        f["runout_over_lube_r0_m"].as_f64().unwrap(),
+        f["runout_over_lube_r_inf_m"].as_f64().unwrap(),
+    );
+    assert!(r > 2.0 * r0, "{s}");
+}
+
 #[test]
 fn check_reports_a_3d_scenario() {
     let o = grains(&[

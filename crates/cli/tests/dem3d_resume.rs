@@ -175,3 +175,27 @@ fn a_paused_pour_resumes_bitwise() {
     assert_eq!(sa["state_hash"], sb["state_hash"], "resumed pour differs");
     assert_eq!(sa["checks"], sb["checks"]);
 }
+
+/// The small column paused after its tube's release and resumed: the resumed run opens
+/// with the tube gone (the release depends on the time alone) and keeps the column's
+/// height measured before the pause.
+#[test]
+fn a_released_column_resumes_bitwise() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("collapse.toml");
+    let text = std::fs::read_to_string(example("dem3d/collapse_small.toml")).unwrap();
+    let short = text
+        .replace("duration = 0.8", "duration = 0.3")
+        .replace("release = 0.3", "release = 0.12")
+        .replace("tolerance = 0.15", "tolerance = 10.0");
+    assert_ne!(short, text);
+    std::fs::write(&file, short).unwrap();
+    let (a, b) = (tmp.path().join("straight"), tmp.path().join("paused"));
+    let (sa, sb) = straight_and_resumed(&file, &a, &b);
+    assert_eq!(
+        sa["state_hash"], sb["state_hash"],
+        "resumed collapse differs"
+    );
+    assert_eq!(sa["checks"], sb["checks"]);
+    assert_eq!(sa["figures"], sb["figures"]);
+}

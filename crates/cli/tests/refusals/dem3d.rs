@@ -48,6 +48,22 @@ fn pour(rate: &str) -> String {
     )
 }
 
+/// A cylinder wall `tube` along `axis` round the sphere, with `release` lines as given,
+/// before `[run]`.
+fn tube(release: &str, axis: [f64; 3]) -> String {
+    format!(
+        "[[wall]]\nshape = \"cylinder\"\nname = \"tube\"\npoint = [0.005, 0.005, 0.0006]\naxis = {axis:?}\nradius = 0.004\ninside = true\n{release}\n[run]"
+    )
+}
+
+/// A `runout` check on wall `wall` after `before` (which ends with `[run]`).
+fn runout(wall: &str, before: &str) -> String {
+    before.replace(
+        "[run]",
+        &format!("[[check]]\nkind = \"runout\"\nname = \"r\"\nwall = \"{wall}\"\ntolerance = 0.2\n\n[run]"),
+    )
+}
+
 /// The list (ν, E, e, μ, μ_r, k_r, vectors of the wrong length, overlaps at
 /// the start) and the keys of the 3D schema.
 pub fn values(all: &mut Vec<Case>) {
@@ -222,6 +238,12 @@ pub fn values(all: &mut Vec<Case>) {
             "[[check]]\nkind = \"beverloo\"\nname = \"w\"\nwall = \"floor\"\nafter = 0.0\npacking = 0.6\n\n[run]",
             &["check[0].wall", "hole"],
         ),
+        // Column collapse: the tube's release and the run-out check.
+        ("[run]", &tube("release = -0.1\n", [0.0, 0.0, 1.0]), &["wall[1].release", "-0.1"]),
+        ("normal = [0.0, 0.0, 1.0]", "normal = [0.0, 0.0, 1.0]\nrelease = 0.1", &["release"]),
+        ("[run]", &runout("floor", &tube("release = 0.1\n", [0.0, 0.0, 1.0])), &["check[0].wall", "release"]),
+        ("[run]", &runout("tube", &tube("", [0.0, 0.0, 1.0])), &["check[0].wall", "release"]),
+        ("[run]", &runout("tube", &tube("release = 0.1\n", [1.0, 0.0, 0.0])), &["check[0].wall", "gravity"]),
         // Pouring.
         ("[run]", &pour(""), &["pour", "exactly one"]),
         ("[run]", &pour("rate = 100.0\n").replace("count = 10\n", ""), &["pour", "count", "mass"]),

@@ -624,6 +624,9 @@ fn checks(
                     ));
                 }
             }
+            CheckSpec::Runout { wall, .. } => {
+                super::collapse::validate(k, s, setup, wall, wall_index(k, wall)?)?;
+            }
             CheckSpec::WallForceOverWeight { wall, .. } => {
                 wall_index(k, wall)?;
                 if setup.gravity == DVec3::ZERO {

@@ -5,6 +5,7 @@
 //! the run contract are the ones every engine uses.
 
 pub mod assemble;
+pub mod collapse;
 pub mod drum;
 pub mod law;
 pub mod output;
@@ -48,6 +49,8 @@ pub struct Dem3 {
     pub outside: Outside<Particles>,
     /// Spheres poured in after each step.
     pub pour: Option<pour::Pour>,
+    /// Walls taken away during the run and when ([`walls::release`]).
+    pub releases: Vec<(usize, f64)>,
 }
 
 impl Dem3 {
@@ -78,6 +81,7 @@ impl Dem3 {
             lammps_dump: false,
             outside: Outside::default(),
             pour: None,
+            releases: Vec::new(),
         }
     }
 }
@@ -93,6 +97,7 @@ impl Simulation for Dem3 {
     }
 
     fn advance(&mut self) -> Result<(), String> {
+        walls::release(&mut self.setup.walls, &self.releases, self.state.time);
         // The walls first: the step's forces are those at its end, t + dt.
         grains_dem3d::walls::advance_walls(&mut self.setup, &mut self.state, self.dt);
         if self.outside.is_empty() {

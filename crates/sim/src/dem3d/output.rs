@@ -329,6 +329,10 @@ fn outlines(setup: &Setup, v: &View) -> Vec<Outline> {
                 ..
             } => {
                 let u = DVec3::from(axis).normalize();
+                // A released wall (infinite radius) is gone: nothing to draw.
+                if !radius.is_finite() {
+                    continue;
+                }
                 if (u.dot(v.toward).abs() - 1.0).abs() < 1e-9 {
                     out.push(circle(DVec3::from(point), radius));
                 } else if u.dot(v.toward).abs() < 1e-9 {

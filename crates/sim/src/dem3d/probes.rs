@@ -9,6 +9,7 @@
 //! Sliding throughout an impact on a wall: v_t' = v_t − μ(1 + e) v_n and
 //! ω' R = μ (1 + e) v_n / K (K = I / m R², e measured).
 
+use super::collapse::{lube, RunoutWatch};
 use super::drum::DrumWatch;
 use super::scenario::{CheckSpec, Measure};
 use super::silo::{beverloo, orifice, DischargeWatch};
@@ -79,10 +80,13 @@ enum Partner {
 
 /// What a checkpoint keeps of the probes, one list per check (empty for none).
 #[derive(Serialize, Deserialize)]
-struct Saved<I, D, S> {
+struct Saved<I, D, S, C> {
     impacts: Vec<Vec<I>>,
     drums: Vec<Vec<D>>,
     silos: Vec<Vec<S>>,
+    /// Absent from checkpoints written before columns were watched.
+    #[serde(default = "Vec::new")]
+    columns: Vec<Vec<C>>,
 }
 
 /// Watches the scenario's checks.
@@ -91,6 +95,7 @@ pub struct Probes {
     impacts: Vec<Option<(u32, Partner, Impact)>>,
     drums: Vec<Option<DrumWatch>>,
     silos: Vec<Option<DischargeWatch>>,
+    columns: Vec<Option<RunoutWatch>>,
     restitution: PairTable<Option<f64>>,
 }
 
@@ -160,11 +165,23 @@ impl Probes {
                 _ => None,
             })
             .collect();
+        let columns = specs
+            .iter()
+            .map(|c| match c {
+                CheckSpec::Runout { wall: w, .. } => {
+                    let w = wall(w)?;
+                    let (_, at) = sim.releases.iter().find(|(r, _)| *r == w)?;
+                    Some(RunoutWatch::new(sim, w, *at))
+                }
+                _ => None,
+            })
+            .collect();
         Probes {
             specs: specs.to_vec(),
             impacts,
             drums,
             silos,
+            columns,
             restitution,
         }
     }
@@ -228,6 +245,9 @@ impl Observer<Dem3> for Probes {
         for d in self.silos.iter_mut().flatten() {
             d.sample(sim);
         }
+        for c in self.columns.iter_mut().flatten() {
+            c.sample(sim);
+        }
         Ok(Flow::Continue)
     }
 
@@ -241,12 +261,14 @@ impl Observer<Dem3> for Probes {
             impacts: slots(&self.impacts),
             drums: slots(&self.drums),
             silos: slots(&self.silos),
+            columns: slots(&self.columns),
         };
         toml::Value::try_from(saved).ok().map(|v| ("probes", v))
     }
 
     fn restore(&mut self, state: toml::Value) -> anyhow::Result<()> {
-        let saved: Saved<(u32, Partner, Impact), DrumWatch, DischargeWatch> = state.try_into()?;
+        let saved: Saved<(u32, Partner, Impact), DrumWatch, DischargeWatch, RunoutWatch> =
+            state.try_into()?;
         fn slots<T>(
             what: &str,
             saved: Vec<Vec<T>>,
@@ -263,6 +285,9 @@ impl Observer<Dem3> for Probes {
         }
         slots("collision", saved.impacts, &mut self.impacts)?;
         slots("drum", saved.drums, &mut self.drums)?;
+        if !saved.columns.is_empty() {
+            slots("runout", saved.columns, &mut self.columns)?;
+        }
         slots("silo", saved.silos, &mut self.silos)
     }
 
@@ -406,6 +431,24 @@ impl Observer<Dem3> for Probes {
                         .figures
                         .insert(format!("{name}_inside_kg"), inside.into());
                     Check::relative(name, inside, total, tol)
+                }
+                (CheckSpec::Runout { .. }, _) => {
+                    let (r0, h0, (r, front)) = match &self.columns[k] {
+                        Some(c) => (c.r0, c.h0, c.radius(sim)),
+                        None => (f64::NAN, f64::NAN, (f64::NAN, f64::NAN)),
+                    };
+                    let a = h0 / r0;
+                    for (key, v) in [
+                        ("r0_m", r0),
+                        ("h0_m", h0),
+                        ("aspect_ratio", a),
+                        ("r_inf_m", r),
+                        ("front_m", front),
+                        ("lube", lube(a)),
+                    ] {
+                        report.figures.insert(format!("{name}_{key}"), v.into());
+                    }
+                    Check::relative(name, (r - r0) / r0, lube(a), tol)
                 }
                 (CheckSpec::DrumTorque { .. }, _) => {
                     let r = self.drums[k]

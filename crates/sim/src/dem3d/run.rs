@@ -143,6 +143,8 @@ pub fn open(
         }
     };
     sim.lammps_dump = s.output.lammps_dump;
+    sim.releases = super::walls::releases(s, &sim.setup.walls);
+    super::walls::release(&mut sim.setup.walls, &sim.releases, sim.state.time);
     sim.pour = pour.map(|p| p.resumed(&sim.state));
     let plan = s.output.plan_by_steps(&CAPABILITIES, steps);
     let out = opts.out.clone();

@@ -346,6 +346,10 @@ pub enum WallSpec {
         /// Angular velocity about the axis (a drum) (rad/s); default none.
         #[serde(default)]
         omega: Option<[f64; 3]>,
+        /// Time (s) from which the wall no longer acts: a column's confining tube taken
+        /// away at once. Default: never.
+        #[serde(default)]
+        release: Option<f64>,
     },
     /// A sphere; `inside = true` keeps particles inside.
     Sphere {
@@ -464,6 +468,17 @@ pub enum CheckSpec {
         /// Relative tolerance.
         tolerance: f64,
     },
+    /// A granular column's run-out once the cylinder `wall` (with a `release` time) that
+    /// held it is gone: (R∞ − R0)/R0 at the end against Lube et al.'s law for the
+    /// column's aspect ratio H0/R0 ([`super::collapse`]).
+    Runout {
+        /// Check name.
+        name: String,
+        /// The confining cylinder's wall name.
+        wall: String,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
     /// The mean torque of the grains on the drum `wall` about its axis over the mean
     /// moment of their weight about it, from `after` on (expected 1).
     DrumTorque {
@@ -488,6 +503,7 @@ impl CheckSpec {
             | CheckSpec::ReposeAngle { name, .. }
             | CheckSpec::Beverloo { name, .. }
             | CheckSpec::DrumTorque { name, .. }
+            | CheckSpec::Runout { name, .. }
             | CheckSpec::PouredMass { name, .. } => name,
         }
     }
@@ -499,6 +515,7 @@ impl CheckSpec {
             | CheckSpec::WallForceOverWeight { tolerance, .. }
             | CheckSpec::FinalVelocity { tolerance, .. }
             | CheckSpec::DrumTorque { tolerance, .. }
+            | CheckSpec::Runout { tolerance, .. }
             | CheckSpec::PouredMass { tolerance, .. } => Some(*tolerance),
             CheckSpec::ReposeAngle { .. } | CheckSpec::Beverloo { .. } => None,
         }

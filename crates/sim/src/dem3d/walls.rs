@@ -145,11 +145,15 @@ pub fn walls(s: &Scenario) -> Result<Vec<Wall>, InputError> {
                 inside,
                 velocity,
                 omega,
+                release,
                 ..
             } => {
                 finite3(&k("point"), point)?;
                 nonzero("axis", axis)?;
                 positive(&k("radius"), radius)?;
+                if let Some(t) = release {
+                    non_negative(&k("release"), t)?;
+                }
                 shapes.push((
                     name.clone(),
                     WallShape::Cylinder {
@@ -237,4 +241,33 @@ pub fn spin_axes(walls: &[Wall]) -> Vec<Option<DVec3>> {
         .iter()
         .map(|w| (w.motion.omega != DVec3::ZERO).then(|| w.motion.omega.normalize()))
         .collect()
+}
+
+/// The walls the scenario takes away and when: (index among `walls`, release time).
+pub fn releases(s: &Scenario, walls: &[Wall]) -> Vec<(usize, f64)> {
+    s.walls
+        .iter()
+        .filter_map(|spec| match spec {
+            WallSpec::Cylinder {
+                name,
+                release: Some(t),
+                ..
+            } => walls.iter().position(|w| &w.name == name).map(|w| (w, *t)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Takes away each wall of `releases` whose time has come by `time`. A released cylinder
+/// gets an infinite radius, so it touches nothing: the engine's walls stay as they are
+/// (their count, names, history columns and checkpointed poses), and the test depends on
+/// the time alone, so a resumed run releases on the same step as the straight one.
+pub fn release(walls: &mut [Wall], releases: &[(usize, f64)], time: f64) {
+    for &(w, at) in releases {
+        if time >= at {
+            if let WallShape::Cylinder { radius, .. } = &mut walls[w].shape {
+                *radius = f64::INFINITY;
+            }
+        }
+    }
 }

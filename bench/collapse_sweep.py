@@ -1,0 +1,63 @@
+#!/usr/bin/env python3
+"""Column collapse: run-out against aspect ratio beside Lube et al. (J. Fluid Mech. 508,
+2004) (VALIDATION.md, "Column collapse"). Runs examples/dem3d/collapse_small.toml with
+columns of COUNTS spheres (the same tube, R0 = 20 mm = 5 d; the fill's height, the
+release time and the duration grown with the count), reads each run's figures from its
+summary.json, runs examples/dem3d/collapse.toml as it is (R0 = 30 mm = 7.5 d: the
+same column 1.5 times wider in grains), and writes OUT.csv (columns count,
+aspect_ratio, h0_m, r0_m, r_inf_m, front_m, runout, lube, r0_over_d). Then
+`cargo run -p grains-sim --example collapse_runout -- OUT.csv` draws OUT.png.
+
+usage: python3 bench/collapse_sweep.py GRAINS_BINARY OUT.csv [WORK_DIR]
+No dependencies beyond the standard library; the five runs take about 2 min on 2 cores.
+"""
+import math
+import os
+import re
+import sys
+import tempfile
+
+from sweep_run import run
+
+COUNTS = [180, 480, 760, 1140]
+# Height of tube each sphere's random place takes (m): the fill's solid fraction is 0.26.
+PER_SPHERE = 0.045 / 480
+
+grains, out = sys.argv[1:3]
+work = sys.argv[3] if len(sys.argv) > 3 else tempfile.mkdtemp()
+here = os.path.dirname(os.path.abspath(__file__))
+base = open(os.path.join(here, '..', 'examples', 'dem3d', 'collapse_small.toml')).read()
+D = 0.004
+rows = []
+
+
+def record(n, summary):
+    f = summary['figures']
+    g = lambda k: f['runout_over_lube_' + k]
+    a = g('aspect_ratio')
+    runout = (g('r_inf_m') - g('r0_m')) / g('r0_m')
+    rows.append((n, a, g('h0_m'), g('r0_m'), g('r_inf_m'), g('front_m'), runout, g('lube'),
+                 g('r0_m') / D))
+    print(f'n {n:5}  R0/d {g("r0_m") / D:4.1f}  a {a:5.2f}  (R_inf - R0)/R0 {runout:5.2f}  '
+          f'Lube {g("lube"):5.2f}')
+
+
+for n in COUNTS:
+    h = PER_SPHERE * n
+    # The fill falls from h, then settles for 0.2 s; the collapse is over within 0.5 s.
+    release = round(0.2 + math.sqrt(2 * h / 9.81), 2)
+    text = re.sub(r'(?m)^count = .*$', f'count = {n}', base)
+    text = re.sub(r'height = [0-9.e-]+ \}', f'height = {h:.4f} }}', text)
+    text = re.sub(r'(?m)^hi = \[(.*), [0-9.e-]+\]$', lambda m: f'hi = [{m.group(1)}, {h + 0.01:.4f}]', text)
+    text = re.sub(r'(?m)^lo = \[-0.09, -0.09,', 'lo = [-0.12, -0.12,', text)
+    text = re.sub(r'(?m)^hi = \[0.09, 0.09,', 'hi = [0.12, 0.12,', text)
+    text = re.sub(r'(?m)^release = .*$', f'release = {release}', text)
+    text = re.sub(r'(?m)^duration = .*$', f'duration = {release + 0.5:.2f}', text)
+    record(n, run(grains, text, work, f'collapse_n{n}'))
+full = open(os.path.join(here, '..', 'examples', 'dem3d', 'collapse.toml')).read()
+record(int(re.search(r'(?m)^count = (\d+)', full).group(1)), run(grains, full, work, 'collapse'))
+with open(out, 'w') as f:
+    f.write('count,aspect_ratio,h0_m,r0_m,r_inf_m,front_m,runout,lube,r0_over_d\n')
+    for r in rows:
+        f.write('{},{:.4f},{:.5f},{:.5f},{:.5f},{:.5f},{:.4f},{:.4f},{:.1f}\n'.format(*r))
+print(out)
