@@ -352,6 +352,19 @@ fn cmd_pack(
     out: Option<PathBuf>,
     threads: Option<usize>,
 ) -> Result<ExitCode, Failure> {
+    if let Some(p) = grains_sim::pack3d::prepare(spec).map_err(input)? {
+        let threads = set_threads(threads)?;
+        let out = out.unwrap_or_else(|| driver::default_out(&p.spec.name));
+        driver::writable_out(&out).map_err(input)?;
+        eprintln!(
+            "grains: pack {} — {} spheres jammed, {threads} threads → {}",
+            p.spec.name,
+            p.spec.sizes.count,
+            out.display()
+        );
+        let done = grains_sim::pack3d::pack(&p, &out).map_err(|e| input(format!("{e:#}")))?;
+        return packed(&done, &out);
+    }
     let (s, text, v) = grains_sim::pack::prepare(spec).map_err(input)?;
     let threads = set_threads(threads)?;
     let out = out.unwrap_or_else(|| driver::default_out(&s.name));
@@ -370,6 +383,11 @@ fn cmd_pack(
     let done = grains_sim::pack::pack(&s, &text, &v, &out, &mut watch)
         .map_err(|e| input(format!("{e:#}")))?;
     grains_sim::driver::Progress::finish(&mut watch.bar);
+    packed(&done, &out)
+}
+
+/// Prints a packing's figures and checks; exit 2 when a check failed.
+fn packed(done: &grains_sim::pack::Packed, out: &Path) -> Result<ExitCode, Failure> {
     print!("{}", grains_sim::analyze::main_figures(&done.summary));
     let failed = done.checks.iter().filter(|c| !c.pass).count();
     for c in &done.checks {

@@ -197,3 +197,110 @@ fn small_packing_writes_everything_and_is_thread_independent() {
     let (code, _, err) = grains_at(one.path(), &["analyze", "missing.txt"]);
     assert_eq!(code, 1, "{err}");
 }
+
+/// `grains pack` with `dim = 3`: jammed spheres in a cylinder with their fraction,
+/// coordination and fabric reported; bad values refused with nothing written; the
+/// packing file loaded by a 3D scenario (`source = "file"`), which runs.
+#[test]
+fn spheres_pack_and_start_a_3d_run() {
+    let spec = "name = \"balls\"\ndim = 3\nseed = 2\n[domain]\nshape = \"cylinder\"\nradius = 1.0\nheight = 2.0\n[sizes]\ncount = 60\ndiameter = 0.002\n";
+    let dir = tempfile::tempdir().unwrap();
+    for (from, to, key) in [
+        ("count = 60", "count = 1", "sizes.count"),
+        ("diameter = 0.002", "diameter = 0.0", "sizes.diameter"),
+        ("height = 2.0", "height = -2.0", "domain.height"),
+        ("dim = 3", "dim = 4", "dim"),
+    ] {
+        let (code, err) = pack(dir.path(), &spec.replace(from, to), "1");
+        assert_eq!(code, 1, "{to}: {err}");
+        assert!(err.contains(key), "{to}: {err}");
+        assert!(!dir.path().join("out").exists(), "{to}");
+    }
+    let (code, err) = pack(dir.path(), spec, "1");
+    assert_eq!(code, 0, "{err}");
+    let s: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let f = &s["figures"];
+    let fabric: Vec<f64> = f["fabric_eigenvalues"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert!(
+        (fabric.iter().sum::<f64>() - 1.0).abs() < 1e-9,
+        "{fabric:?}"
+    );
+    let phi = f["packing_fraction_bulk"].as_f64().unwrap();
+    assert!((0.4..0.7).contains(&phi), "{s}");
+    assert!(f["mean_coordination"].as_f64().unwrap() > 4.0, "{s}");
+    let scenario = r#"engine = "dem"
+dim = 3
+name = "from_packing"
+gravity = [0.0, 0.0, -9.81]
+
+[domain]
+lo = [-0.02, -0.02, -0.001]
+hi = [0.02, 0.02, 0.03]
+
+[[material]]
+name = "grain"
+density = 2500.0
+youngs = 1.0e7
+poisson = 0.3
+restitution = 0.5
+friction = 0.5
+
+[contact]
+model = "granular"
+normal = "hertz/material"
+damping = "restitution"
+tangential = "mindlin"
+
+[[particles]]
+source = "file"
+material = "grain"
+path = "out/packing.txt"
+
+[[wall]]
+shape = "plane"
+name = "floor"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+
+[run]
+duration = 1.0e-3
+"#;
+    std::fs::write(dir.path().join("run.toml"), scenario).unwrap();
+    let (code, _, err) = grains_at(dir.path(), &["run", "run.toml", "--out", "run"]);
+    assert_eq!(code, 0, "{err}");
+    let r: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("run/summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(r["particles"], 60, "{r}");
+    // A 2D packing line (x y r) is refused by the 3D reader.
+    std::fs::write(dir.path().join("flat.txt"), "0.0 0.0 0.001\n").unwrap();
+    let bad = scenario.replace("out/packing.txt", "flat.txt");
+    std::fs::write(dir.path().join("bad.toml"), bad).unwrap();
+    let (code, _, err) = grains_at(dir.path(), &["run", "bad.toml", "--out", "bad"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("particles[0].path") && err.contains("x y z r"),
+        "{err}"
+    );
+    assert!(!dir.path().join("bad").exists());
+    // The example spec passes its checks.
+    let (code, _, err) = grains_at(
+        dir.path(),
+        &[
+            "pack",
+            example("dem3d/pack_spheres.toml").to_str().unwrap(),
+            "--out",
+            "example",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+}

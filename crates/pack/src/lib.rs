@@ -31,6 +31,7 @@ pub mod ring;
 pub mod sizes;
 pub mod sort;
 pub mod spec;
+pub mod sphere_spec;
 pub mod spheres;
 pub mod validate;
 

@@ -18,15 +18,7 @@ pub fn packing_text(spec: &PackSpec, packing: &Packing, realised: &[(&str, f64)]
     let mut s = String::with_capacity(packing.pos.len() * 64 + 1024);
     let _ = writeln!(s, "# grains pack: {}", spec.name);
     let _ = writeln!(s, "# {SPEC_KEY} = {:016x}", spec.key());
-    if !spec.description.is_empty() {
-        let _ = writeln!(s, "# description: {}", spec.description.replace('\n', " "));
-    }
-    let _ = writeln!(
-        s,
-        "# generator = grains {} seed={}",
-        env!("CARGO_PKG_VERSION"),
-        spec.seed
-    );
+    provenance(&mut s, &spec.description, spec.seed);
     let _ = writeln!(s, "# {DOMAIN_KEY} = {}", packing.region.describe());
     let _ = writeln!(s, "# {LINING_KEY} = {}", packing.lining);
     let sizes = toml_inline(&spec.sizes);
@@ -44,6 +36,19 @@ pub fn packing_text(spec: &PackSpec, packing: &Packing, realised: &[(&str, f64)]
         let _ = writeln!(s, "{:e} {:e} {:e}", p.x, p.y, r);
     }
     format!("# {CONTENT_KEY} = {:016x}\n{s}", fnv1a(s.as_bytes()))
+}
+
+/// The header lines of a packing file (2D or 3D) saying what made it: the spec's
+/// description, if any, and the generator with its seed.
+pub fn provenance(s: &mut String, description: &str, seed: u64) {
+    if !description.is_empty() {
+        let _ = writeln!(s, "# description: {}", description.replace('\n', " "));
+    }
+    let _ = writeln!(
+        s,
+        "# generator = grains {} seed={seed}",
+        env!("CARGO_PKG_VERSION")
+    );
 }
 
 /// Header key of the hash of the rest of the file.

@@ -31,6 +31,7 @@ pub mod history;
 pub mod mpm;
 pub mod output;
 pub mod pack;
+pub mod pack3d;
 pub mod packings;
 pub mod run;
 pub mod scenario;

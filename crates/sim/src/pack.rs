@@ -105,26 +105,7 @@ fn run(
     write_outputs(out, &sample, &analysis, "packing")?;
 
     let st = &packing.stats;
-    let checks: Vec<Check> = spec
-        .checks
-        .iter()
-        .map(|c| {
-            let measured = fig
-                .get(&c.figure)
-                .and_then(Value::as_f64)
-                .unwrap_or(f64::NAN);
-            let check = match (c.at_least, c.at_most) {
-                (Some(lo), _) => Check::at_least(&c.figure, measured, lo),
-                (_, Some(hi)) => Check::at_most(&c.figure, measured, hi),
-                _ => Check::at_least(&c.figure, f64::NAN, 0.0),
-            };
-            if c.note.is_empty() {
-                check
-            } else {
-                check.with_note(&c.note)
-            }
-        })
-        .collect();
+    let checks = spec_checks(&spec.checks, &fig);
     let wall = started.elapsed().as_secs_f64();
     let mut summary = serde_json::Map::new();
     summary.insert("name".into(), json!(spec.name));
@@ -169,4 +150,27 @@ fn run(
         &Value::Object(summary.clone()),
     )?;
     Ok((checks, summary))
+}
+
+/// The spec's `[[check]]`s against the figures `fig` (a figure missing is NaN: fails).
+pub fn spec_checks(specs: &[grains_pack::spec::CheckSpec], fig: &Map<String, Value>) -> Vec<Check> {
+    specs
+        .iter()
+        .map(|c| {
+            let measured = fig
+                .get(&c.figure)
+                .and_then(Value::as_f64)
+                .unwrap_or(f64::NAN);
+            let check = match (c.at_least, c.at_most) {
+                (Some(lo), _) => Check::at_least(&c.figure, measured, lo),
+                (_, Some(hi)) => Check::at_most(&c.figure, measured, hi),
+                _ => Check::at_least(&c.figure, f64::NAN, 0.0),
+            };
+            if c.note.is_empty() {
+                check
+            } else {
+                check.with_note(&c.note)
+            }
+        })
+        .collect()
 }

@@ -61,8 +61,8 @@ pub(super) fn material_index(s: &Scenario, key: &str, name: &str) -> Result<u16,
         })
 }
 
-/// Validates and assembles `s`.
-pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
+/// Validates and assembles `s`, whose relative paths start at `base`.
+pub fn assemble(s: &Scenario, base: &std::path::Path) -> Result<Assembled, InputError> {
     if s.dim != 3 {
         return Err(InputError::new("dim", s.dim, "2 or 3"));
     }
@@ -91,7 +91,7 @@ pub fn assemble(s: &Scenario) -> Result<Assembled, InputError> {
     let laws = resolve(&s.contact, &s.materials)?;
     let mut particles = Particles::default();
     for (g, src) in s.particles.iter().enumerate() {
-        add_group(s, g, src, &mut particles)?;
+        add_group(s, base, g, src, &mut particles)?;
     }
     let pour = match &s.pour {
         Some(spec) => Some(Pour::new(s, spec, particles.len() as u32)?),
@@ -230,6 +230,7 @@ pub(super) fn fits(region: &RegionSpec, p: DVec3, r: f64) -> bool {
 
 fn add_group(
     s: &Scenario,
+    base: &std::path::Path,
     g: usize,
     src: &SphereSource,
     out: &mut Particles,
@@ -321,6 +322,28 @@ fn add_group(
                     DVec3::ZERO
                 };
                 push(mat, at, r, v, DVec3::ZERO, &format!("sphere {k}"))?;
+            }
+        }
+        SphereSource::File {
+            material,
+            path,
+            offset,
+        } => {
+            let mat = material_index(s, &format!("{key}.material"), material)?;
+            let shift = finite3(&format!("{key}.offset"), *offset)?;
+            for (k, (at, r)) in super::packing::read(&key, &base.join(path))?
+                .into_iter()
+                .enumerate()
+            {
+                let what = format!("line {} of the file's spheres", k + 1);
+                push(
+                    mat,
+                    DVec3::from(at) + shift,
+                    r,
+                    DVec3::ZERO,
+                    DVec3::ZERO,
+                    &what,
+                )?;
             }
         }
         SphereSource::Random {

@@ -9,6 +9,7 @@ pub mod collapse;
 pub mod drum;
 pub mod law;
 pub mod output;
+pub mod packing;
 pub mod pour;
 pub mod probes;
 pub mod run;

@@ -54,6 +54,8 @@ pub fn count(s: &Scenario) -> u64 {
             SphereSource::Lattice { count, .. } | SphereSource::Random { count, .. } => {
                 *count as u64
             }
+            // Counted when read: the estimate after assembly has them.
+            SphereSource::File { .. } => 0,
         })
         .sum::<u64>()
         + s.pour.as_ref().and_then(|p| p.count).unwrap_or(0)
@@ -79,7 +81,7 @@ fn fits(s: &Scenario, src: &Source, threads: usize) -> Result<(), String> {
 /// What `grains check` prints for a 3D scenario.
 pub fn derived(s: &Scenario, src: &Source, threads: usize) -> Result<Derived, String> {
     fits(s, src, threads)?;
-    let a = assemble(s).map_err(|e| format!("{}: {e}", src.origin))?;
+    let a = assemble(s, &src.base).map_err(|e| format!("{}: {e}", src.origin))?;
     let n = a.particles.len() as u64 + a.pour.as_ref().map_or(0, |p| p.planned());
     let walls = a.setup.walls.len();
     let law = if a.setup.granular.is_some() {
@@ -133,7 +135,7 @@ pub fn open(
         steps,
         restitution,
         pour,
-    } = assemble(s).map_err(input)?;
+    } = assemble(s, &src.base).map_err(input)?;
     let mut sim = match &resume {
         None => Dem3::new(setup, particles, dt).map_err(input)?,
         Some(r) => {

@@ -222,6 +222,17 @@ pub enum SphereSource {
         #[serde(default)]
         seed: u64,
     },
+    /// The spheres of a packing file (`x y z r` per line, `#` lines skipped), as
+    /// `grains pack` writes for a spec with `dim = 3`, moved by `offset`.
+    File {
+        /// Material name.
+        material: String,
+        /// Path, relative to the scenario file.
+        path: String,
+        /// Added to every centre (m).
+        #[serde(default)]
+        offset: [f64; 3],
+    },
 }
 
 fn default_spacing() -> f64 {
