@@ -121,7 +121,8 @@ impl PairLookup for PairTable {
 /// Evaluates every listed pair and advances the tangential springs by `dt` (0 to only
 /// evaluate). Each particle's force and torque are set to the sum of its own row's
 /// contacts, in row order (ascending partner id); every entry keeps its force (`fpair`,
-/// `ftan`) for `walls_gather_kick` to subtract from the partner in ascending owner id.
+/// `ftan`; zero unless it touches, flagged in `touch`) for `walls_gather_kick` to
+/// subtract from the partner in ascending owner id.
 /// A particle's force is so summed in an order of ids, the same for any thread count,
 /// rank count or storage order ([`ContactList`]).
 /// With a `ledger`, the energy the contacts dissipate in this pass is added to it
@@ -195,11 +196,16 @@ fn run<L: PairLookup, T: Tally, const P: u8>(
     dt: f64,
 ) -> PassTally {
     let n = p.len();
+    list.fit_touch();
     let row = &list.row;
     // Split entry and particle arrays at chunk boundaries so each task owns its slices.
     let mut jobs = Vec::with_capacity(n.div_ceil(CHUNK));
-    let (mut shear, mut fpair, mut ftan) =
-        (&mut list.shear[..], &mut list.fpair[..], &mut list.ftan[..]);
+    let (mut shear, mut fpair, mut ftan, mut touch) = (
+        &mut list.shear[..],
+        &mut list.fpair[..],
+        &mut list.ftan[..],
+        &mut list.touch[..],
+    );
     let mut force = p.force.chunks_mut(CHUNK);
     let mut torque = p.torque.chunks_mut(CHUNK);
     let mut done = 0usize;
@@ -209,17 +215,20 @@ fn run<L: PairLookup, T: Tally, const P: u8>(
         let (s, s_rest) = shear.split_at_mut(len);
         let (f, f_rest) = fpair.split_at_mut(len);
         let (t, t_rest) = ftan.split_at_mut(len);
+        let (h, h_rest) = touch.split_at_mut(len);
         jobs.push(Chunk {
             range,
             shear: s,
             fpair: f,
             ftan: t,
+            touch: h,
             force: force.next().unwrap_or_default(),
             torque: torque.next().unwrap_or_default(),
         });
         shear = s_rest;
         fpair = f_rest;
         ftan = t_rest;
+        touch = h_rest;
         done += len;
     }
     let ctx = Ctx {
@@ -239,19 +248,22 @@ fn run<L: PairLookup, T: Tally, const P: u8>(
     };
     if T::ON {
         // Per chunk, then in chunk order: the same sum for any thread count.
-        let parts: Vec<PassTally> = jobs
+        let parts: Vec<(PassTally, usize)> = jobs
             .into_par_iter()
             .map(|mut job| ctx.chunk(&mut job))
             .collect();
         let mut total = PassTally::default();
-        for part in parts {
+        list.touching = 0;
+        for (part, touching) in parts {
             total += part;
+            list.touching += touching;
         }
         total
     } else {
-        jobs.into_par_iter().for_each(|mut job| {
-            ctx.chunk(&mut job);
-        });
+        list.touching = jobs
+            .into_par_iter()
+            .map(|mut job| ctx.chunk(&mut job).1)
+            .sum();
         PassTally::default()
     }
 }
@@ -286,6 +298,7 @@ struct Chunk<'a> {
     shear: &'a mut [Tangent],
     fpair: &'a mut [Vector],
     ftan: &'a mut [AngVector],
+    touch: &'a mut [u8],
     force: &'a mut [Vector],
     torque: &'a mut [AngVector],
 }
@@ -350,8 +363,9 @@ impl Block {
 impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
     /// The rows of one chunk. Forces of pairs inside the chunk go straight onto both
     /// particles; pairs reaching into a later chunk leave their force in the entry.
-    /// Returns the chunk's ledger terms (zero without the ledger).
-    fn chunk(&self, c: &mut Chunk) -> PassTally {
+    /// Returns the chunk's ledger terms (zero without the ledger) and how many of its
+    /// entries touch.
+    fn chunk(&self, c: &mut Chunk) -> (PassTally, usize) {
         let base = self.row[c.range.start] as usize;
         c.force.fill(Vector::ZERO);
         c.torque.fill(AngVector::default());
@@ -359,6 +373,7 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
         // The fill count lives in a register: kept in the block it would go through
         // memory on every entry, in one long dependent chain.
         let mut len = 0usize;
+        let mut touched = 0usize;
         let mut tally = T::ON.then(|| {
             Box::new(Tallies {
                 damped: [0.0; BLOCK],
@@ -392,9 +407,14 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
             b.rsum[t] = rsum;
             c.shear[k].write(&mut b.xi, t);
             c.shear[k] = Tangent::default();
-            // Every entry carries its force out of the pass (zero unless it touches).
-            c.fpair[k] = Vector::ZERO;
-            c.ftan[k] = AngVector::default();
+            // The scatter writes the forces of touching entries; one that stops
+            // touching is zeroed here, once (rare: the branch is predictable).
+            let was = std::mem::replace(&mut c.touch[k], touching as u8);
+            if was > touching as u8 {
+                c.fpair[k] = Vector::ZERO;
+                c.ftan[k] = AngVector::default();
+            }
+            touched += touching as usize;
             len += touching as usize;
             if len == BLOCK {
                 b.len = len;
@@ -405,7 +425,7 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
         b.len = len;
         self.flush(&mut b, c, tally.as_deref_mut());
         self.settle(&mut b, c);
-        tally.map_or_else(PassTally::default, |tl| tl.sum)
+        (tally.map_or_else(PassTally::default, |tl| tl.sum), touched)
     }
 
     /// Runs the contact law over the block and scatters its forces.
