@@ -53,6 +53,9 @@ pub struct ContactList {
     pub touch: Vec<u8>,
     /// How many entries touched at the last evaluation (the gather's choice of loop).
     pub touching: usize,
+    /// The particles' indices in ascending id, the order the energy ledger adds their
+    /// rows in (made when the ledger first needs it after a re-sort).
+    pub by_id: Vec<u32>,
     /// The entries in which particle j is the partner are
     /// `rev_entry[rev_row[j]..rev_row[j+1]]`, in ascending id of their row owner.
     pub rev_row: Vec<u32>,

@@ -140,6 +140,7 @@ impl<C: Reduce + Post> Decomposed<C> {
         }
         let mut s = State {
             wall_loads: whole.wall_loads.clone(),
+            ledger: whole.ledger,
             time: whole.time,
             step: whole.step,
             ..Default::default()
@@ -430,6 +431,11 @@ impl<C: Reduce + Post> Exchange for Decomposed<C> {
                 words::get_motion(&mut r, p, i as usize);
             }
         }
+    }
+
+    fn owns(&self, i: usize) -> bool {
+        // The inherent method, of the same meaning.
+        Decomposed::owns(self, i)
     }
 
     fn owned(&self, particles: &Particles) -> usize {
