@@ -84,6 +84,11 @@ pub trait Exchange: Reduce {
     fn owned(&self, particles: &Particles) -> usize {
         particles.len()
     }
+
+    /// Whether stored particle `i` is this rank's own (else a ghost).
+    fn owns(&self, _i: usize) -> bool {
+        true
+    }
 }
 
 /// Point-to-point messages between ranks (the neighbours of a decomposition): byte

@@ -121,7 +121,8 @@ impl PairLookup for PairTable {
 /// Evaluates every listed pair and advances the tangential springs by `dt` (0 to only
 /// evaluate). Each particle's force and torque are set to the sum of its own row's
 /// contacts, in row order (ascending partner id); every entry keeps its force (`fpair`,
-/// `ftan`) for `walls_gather_kick` to subtract from the partner in ascending owner id.
+/// `ftan`; zero unless it touches, flagged in `touch`) for `walls_gather_kick` to
+/// subtract from the partner in ascending owner id.
 /// A particle's force is so summed in an order of ids, the same for any thread count,
 /// rank count or storage order ([`ContactList`]).
 /// With a `ledger`, the energy the contacts dissipate in this pass is added to it
@@ -133,11 +134,15 @@ pub fn pair_contacts(
     dt: f64,
     ledger: Option<&mut EnergyLedger>,
 ) {
-    pair_contacts_on(setup, p, list, dt, ledger, &Serial);
+    pair_contacts_on(setup, p, list, dt, ledger, &Serial, |_| true);
 }
 
-/// [`pair_contacts`] on one rank of several: the ledger takes in the pass's terms of
-/// every rank, added through `reduce` in rank order.
+/// [`pair_contacts`] on one rank of several, which `owns` some of the particles it
+/// stores (by index; the others are copies of another rank's). The ledger takes in each
+/// pair once, from the rank that owns its lower id: each particle's row (its pairs with
+/// higher ids, in ascending id) is summed, and the rows of every rank are added in
+/// ascending id of their particle, the serial run included, so the ledger is the same
+/// bit for bit on any rank count ([`crate::ledger::in_id_order`]).
 pub fn pair_contacts_on<R: Reduce + ?Sized>(
     setup: &Setup,
     p: &mut Particles,
@@ -145,6 +150,7 @@ pub fn pair_contacts_on<R: Reduce + ?Sized>(
     dt: f64,
     ledger: Option<&mut EnergyLedger>,
     reduce: &R,
+    owns: impl Fn(usize) -> bool,
 ) {
     if let Some(table) = &setup.granular {
         // The ledger's split is the linear law's; the granular law keeps none.
@@ -153,36 +159,37 @@ pub fn pair_contacts_on<R: Reduce + ?Sized>(
     }
     match ledger {
         None => {
-            dispatch::<Off>(setup, p, list, dt);
+            dispatch::<Off>(setup, p, list, dt, &mut []);
         }
         Some(l) => {
-            let mut pass = dispatch::<On>(setup, p, list, dt);
-            if reduce.ranks() > 1 {
-                pass.reduce(reduce);
-            }
+            let mut rows = vec![PassTally::default(); p.len()];
+            dispatch::<On>(setup, p, list, dt, &mut rows);
+            let pass = crate::ledger::in_id_order(&rows, &p.id, owns, reduce, &mut list.by_id);
             l.record(&pass);
         }
     }
 }
 
+/// The pass; with the ledger (`T`), each particle's row terms are left in `rows`.
 fn dispatch<T: Tally>(
     setup: &Setup,
     p: &mut Particles,
     list: &mut ContactList,
     dt: f64,
-) -> PassTally {
+    rows: &mut [PassTally],
+) {
     if setup.pairs.len() == 1 {
         let uniform = Uniform(*setup.pairs.get(0, 0));
         crate::with_image!(
             setup.domain,
             run::<Uniform, T>,
-            (setup, &uniform, p, list, dt)
+            (setup, &uniform, p, list, dt, rows)
         )
     } else {
         crate::with_image!(
             setup.domain,
             run::<PairTable, T>,
-            (setup, &setup.pairs, p, list, dt)
+            (setup, &setup.pairs, p, list, dt, rows)
         )
     }
 }
@@ -193,15 +200,22 @@ fn run<L: PairLookup, T: Tally, const P: u8>(
     p: &mut Particles,
     list: &mut ContactList,
     dt: f64,
-) -> PassTally {
+    rows: &mut [PassTally],
+) {
     let n = p.len();
+    list.fit_touch();
     let row = &list.row;
     // Split entry and particle arrays at chunk boundaries so each task owns its slices.
     let mut jobs = Vec::with_capacity(n.div_ceil(CHUNK));
-    let (mut shear, mut fpair, mut ftan) =
-        (&mut list.shear[..], &mut list.fpair[..], &mut list.ftan[..]);
+    let (mut shear, mut fpair, mut ftan, mut touch) = (
+        &mut list.shear[..],
+        &mut list.fpair[..],
+        &mut list.ftan[..],
+        &mut list.touch[..],
+    );
     let mut force = p.force.chunks_mut(CHUNK);
     let mut torque = p.torque.chunks_mut(CHUNK);
+    let mut terms = rows.chunks_mut(CHUNK);
     let mut done = 0usize;
     for c in 0..n.div_ceil(CHUNK) {
         let range = c * CHUNK..((c + 1) * CHUNK).min(n);
@@ -209,17 +223,21 @@ fn run<L: PairLookup, T: Tally, const P: u8>(
         let (s, s_rest) = shear.split_at_mut(len);
         let (f, f_rest) = fpair.split_at_mut(len);
         let (t, t_rest) = ftan.split_at_mut(len);
+        let (h, h_rest) = touch.split_at_mut(len);
         jobs.push(Chunk {
             range,
             shear: s,
             fpair: f,
             ftan: t,
+            touch: h,
             force: force.next().unwrap_or_default(),
             torque: torque.next().unwrap_or_default(),
+            terms: terms.next().unwrap_or_default(),
         });
         shear = s_rest;
         fpair = f_rest;
         ftan = t_rest;
+        touch = h_rest;
         done += len;
     }
     let ctx = Ctx {
@@ -237,23 +255,10 @@ fn run<L: PairLookup, T: Tally, const P: u8>(
         dt,
         tally: std::marker::PhantomData::<T>,
     };
-    if T::ON {
-        // Per chunk, then in chunk order: the same sum for any thread count.
-        let parts: Vec<PassTally> = jobs
-            .into_par_iter()
-            .map(|mut job| ctx.chunk(&mut job))
-            .collect();
-        let mut total = PassTally::default();
-        for part in parts {
-            total += part;
-        }
-        total
-    } else {
-        jobs.into_par_iter().for_each(|mut job| {
-            ctx.chunk(&mut job);
-        });
-        PassTally::default()
-    }
+    list.touching = jobs
+        .into_par_iter()
+        .map(|mut job| ctx.chunk(&mut job))
+        .sum();
 }
 
 /// Touching pairs are processed in blocks of this many: first their geometry and inputs
@@ -286,8 +291,11 @@ struct Chunk<'a> {
     shear: &'a mut [Tangent],
     fpair: &'a mut [Vector],
     ftan: &'a mut [AngVector],
+    touch: &'a mut [u8],
     force: &'a mut [Vector],
     torque: &'a mut [AngVector],
+    /// With the ledger: each particle's row terms (empty without).
+    terms: &'a mut [PassTally],
 }
 
 /// The touching pairs of one block, one array per quantity and component.
@@ -314,16 +322,17 @@ struct Block {
     /// The row being summed: its owner (`usize::MAX`: none), force and torque per unit
     /// radius so far.
     row: (usize, Vector, AngVector),
+    /// With the ledger: the row's terms so far.
+    row_terms: PassTally,
 }
 
-/// The ledger's terms per pair of a block, and its chunk's sums (with the ledger only:
-/// the pass without it keeps the block as it was).
+/// The ledger's terms per pair of a block (with the ledger only: the pass without it
+/// keeps the block as it was).
 struct Tallies {
     damped: [f64; BLOCK],
     slid: [f64; BLOCK],
     /// ½K_n δ², ½K_t ξ² after and ½K_t ξ² before the pass.
     stored: [[f64; 3]; BLOCK],
-    sum: PassTally,
 }
 
 impl Block {
@@ -343,6 +352,7 @@ impl Block {
             f: [[0.0; BLOCK]; DIM],
             ft: [[0.0; BLOCK]; ANG],
             row: (usize::MAX, Vector::ZERO, AngVector::default()),
+            row_terms: PassTally::default(),
         })
     }
 }
@@ -350,21 +360,23 @@ impl Block {
 impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
     /// The rows of one chunk. Forces of pairs inside the chunk go straight onto both
     /// particles; pairs reaching into a later chunk leave their force in the entry.
-    /// Returns the chunk's ledger terms (zero without the ledger).
-    fn chunk(&self, c: &mut Chunk) -> PassTally {
+    /// With the ledger, each row's terms go to `terms`. Returns how many of the chunk's
+    /// entries touch.
+    fn chunk(&self, c: &mut Chunk) -> usize {
         let base = self.row[c.range.start] as usize;
         c.force.fill(Vector::ZERO);
         c.torque.fill(AngVector::default());
+        c.terms.fill(PassTally::default());
         let mut b = Block::new();
         // The fill count lives in a register: kept in the block it would go through
         // memory on every entry, in one long dependent chain.
         let mut len = 0usize;
+        let mut touched = 0usize;
         let mut tally = T::ON.then(|| {
             Box::new(Tallies {
                 damped: [0.0; BLOCK],
                 slid: [0.0; BLOCK],
                 stored: [[0.0; 3]; BLOCK],
-                sum: PassTally::default(),
             })
         });
         // One flat loop over the chunk's entries: a loop per row (two to five entries)
@@ -392,9 +404,14 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
             b.rsum[t] = rsum;
             c.shear[k].write(&mut b.xi, t);
             c.shear[k] = Tangent::default();
-            // Every entry carries its force out of the pass (zero unless it touches).
-            c.fpair[k] = Vector::ZERO;
-            c.ftan[k] = AngVector::default();
+            // The scatter writes the forces of touching entries; one that stops
+            // touching is zeroed here, once (rare: the branch is predictable).
+            let was = std::mem::replace(&mut c.touch[k], touching as u8);
+            if was > touching as u8 {
+                c.fpair[k] = Vector::ZERO;
+                c.ftan[k] = AngVector::default();
+            }
+            touched += touching as usize;
             len += touching as usize;
             if len == BLOCK {
                 b.len = len;
@@ -405,7 +422,7 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
         b.len = len;
         self.flush(&mut b, c, tally.as_deref_mut());
         self.settle(&mut b, c);
-        tally.map_or_else(PassTally::default, |tl| tl.sum)
+        touched
     }
 
     /// Runs the contact law over the block and scatters its forces.
@@ -418,17 +435,7 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
             let params = b.params;
             self.law(b, |t| params[t], tally.as_deref_mut());
         }
-        if let (true, Some(tl)) = (T::ON, tally) {
-            let n = b.len.min(BLOCK);
-            tl.sum.damping += tl.damped[..n].iter().sum::<f64>();
-            tl.sum.friction += tl.slid[..n].iter().sum::<f64>();
-            for e in &tl.stored[..n] {
-                tl.sum.normal += e[0];
-                tl.sum.tangential += e[1];
-                tl.sum.tangential_before += e[2];
-            }
-        }
-        self.scatter(b, c);
+        self.scatter(b, c, tally.as_deref());
     }
 
     /// Reads the kinematics of the block's touching pairs. Done here rather than per
@@ -505,9 +512,9 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
         }
     }
 
-    /// Adds the block's forces to their row owners in entry order and leaves each in its
-    /// entry for the partner.
-    fn scatter(&self, b: &mut Block, c: &mut Chunk) {
+    /// Adds the block's forces (and ledger terms) to their row owners in entry order and
+    /// leaves each force in its entry for the partner.
+    fn scatter(&self, b: &mut Block, c: &mut Chunk, tally: Option<&Tallies>) {
         let n = b.len.min(BLOCK);
         // A block holds rows in order, so the row owner's sums stay in registers until
         // the owner changes, and are carried into the next block: a row is summed entry
@@ -527,6 +534,16 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
             t_own += ft;
             c.fpair[k] = fv;
             c.ftan[k] = ft;
+            if let (true, Some(tl)) = (T::ON, tally) {
+                let [normal, tangential, tangential_before] = tl.stored[t];
+                b.row_terms += PassTally {
+                    damping: tl.damped[t],
+                    friction: tl.slid[t],
+                    normal,
+                    tangential,
+                    tangential_before,
+                };
+            }
         }
         b.row = (owner, f_own, t_own);
         b.len = 0;
@@ -539,8 +556,12 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
         if owner != usize::MAX {
             c.force[owner - c.range.start] = f_own;
             c.torque[owner - c.range.start] = self.radius[owner] * t_own;
+            if T::ON {
+                c.terms[owner - c.range.start] = b.row_terms;
+            }
         }
         b.row = (usize::MAX, Vector::ZERO, AngVector::default());
+        b.row_terms = PassTally::default();
     }
 }
 

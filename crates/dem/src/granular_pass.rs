@@ -3,8 +3,8 @@
 //! fixed chunks as the linear law's pass ([`crate::forces`]), so the sums are the same
 //! for any thread count.
 //!
-//! As there, a row's forces go to its owner in row order and every entry leaves the
-//! partner's share for `walls_gather_kick` (the order of ids: [`ContactList`]). Unlike
+//! As there, a row's forces go to its owner in row order and every touching entry
+//! leaves the partner's share (flagged in `touch`) for `walls_gather_kick` (the order of ids: [`ContactList`]). Unlike
 //! the linear law, the two bodies' torques differ by more than their radii (the arms are
 //! R − δ/2 and rolling and twisting add a couple), so an entry leaves the partner's
 //! torque divided by its radius in `ftan`, which `walls_gather_kick` multiplies back.
@@ -28,8 +28,27 @@ struct Chunk<'a> {
     pool: &'a mut Pool,
     fpair: &'a mut [Vector],
     ftan: &'a mut [AngVector],
+    /// Which entries touch ([`ContactList::touch`]).
+    touch: &'a mut [u8],
     force: &'a mut [Vector],
     torque: &'a mut [AngVector],
+}
+
+impl Chunk<'_> {
+    /// Flags entry `k` as touching or not; one that stops touching has its history
+    /// released and its forces zeroed.
+    #[inline(always)]
+    fn touches(&mut self, k: usize, touching: bool) -> bool {
+        let was = std::mem::replace(&mut self.touch[k], touching as u8);
+        if !touching {
+            self.pool.release(&mut self.slot[k]);
+            if was != 0 {
+                self.fpair[k] = Vector::ZERO;
+                self.ftan[k] = AngVector::default();
+            }
+        }
+        touching
+    }
 }
 
 /// Evaluates every listed pair under `table`'s laws, advancing the histories by `dt`
@@ -59,13 +78,15 @@ fn run<const P: u8>(
     let uniform = (one && m0 < table.len()).then(|| *table.get(m0, m0));
     let n = p.len();
     list.history.fit(list.nbr.len(), n.div_ceil(CHUNK));
+    list.fit_touch();
     let row = &list.row;
     let mut jobs = Vec::with_capacity(n.div_ceil(CHUNK));
     let mut pools = list.history.pools.iter_mut();
-    let (mut slot, mut fpair, mut ftan) = (
+    let (mut slot, mut fpair, mut ftan, mut touch) = (
         &mut list.history.slot[..],
         &mut list.fpair[..],
         &mut list.ftan[..],
+        &mut list.touch[..],
     );
     let (pos, vel, omega, radius, inv_mass, material) = (
         &p.pos,
@@ -83,16 +104,18 @@ fn run<const P: u8>(
         let (h, h_rest) = slot.split_at_mut(len);
         let (f, f_rest) = fpair.split_at_mut(len);
         let (t, t_rest) = ftan.split_at_mut(len);
+        let (u, u_rest) = touch.split_at_mut(len);
         jobs.push(Chunk {
             range,
             slot: h,
             pool: pools.next().expect("a pool per chunk"),
             fpair: f,
             ftan: t,
+            touch: u,
             force: force.next().unwrap_or_default(),
             torque: torque.next().unwrap_or_default(),
         });
-        (slot, fpair, ftan) = (h_rest, f_rest, t_rest);
+        (slot, fpair, ftan, touch) = (h_rest, f_rest, t_rest, u_rest);
     }
     let ctx = Ctx {
         image,
@@ -108,14 +131,16 @@ fn run<const P: u8>(
         table,
         dt,
     };
-    match uniform.and_then(|law| Plain::of(&law)) {
+    list.touching = match uniform.and_then(|law| Plain::of(&law)) {
         Some(plain) => jobs
             .into_par_iter()
-            .for_each(|mut c| ctx.blocked(&plain, &mut c)),
+            .map(|mut c| ctx.blocked(&plain, &mut c))
+            .sum(),
         None => jobs
             .into_par_iter()
-            .for_each(|mut c| ctx.scalar(uniform.as_ref(), &mut c)),
-    }
+            .map(|mut c| ctx.scalar(uniform.as_ref(), &mut c))
+            .sum(),
+    };
 }
 
 /// Everything the pass reads.
@@ -135,8 +160,8 @@ struct Ctx<'a, const P: u8> {
 }
 
 impl<const P: u8> Ctx<'_, P> {
-    /// Any law, one entry at a time through [`respond`].
-    fn scalar(&self, uniform: Option<&GranularParams>, c: &mut Chunk) {
+    /// Any law, one entry at a time through [`respond`]. Returns how many entries touch.
+    fn scalar(&self, uniform: Option<&GranularParams>, c: &mut Chunk) -> usize {
         let first = c.range.start;
         let base = self.row[first] as usize;
         let (pos, vel, omega, radius, inv_mass) =
@@ -146,14 +171,11 @@ impl<const P: u8> Ctx<'_, P> {
         c.torque.fill(AngVector::default());
         for k in 0..c.slot.len() {
             let (i, j) = (self.owner[base + k] as usize, self.nbr[base + k] as usize);
-            c.fpair[k] = Vector::ZERO;
-            c.ftan[k] = AngVector::default();
             let d = self.image.apply(pos[j] - pos[i]);
             let (ri, rj) = (radius[i], radius[j]);
             let rsum = ri + rj;
             let dist2 = d.length_squared();
-            if !(dist2 < rsum * rsum && dist2 > 0.0) {
-                c.pool.release(&mut c.slot[k]);
+            if !c.touches(k, dist2 < rsum * rsum && dist2 > 0.0) {
                 continue;
             }
             let dist = dist2.sqrt();
@@ -180,12 +202,14 @@ impl<const P: u8> Ctx<'_, P> {
             c.fpair[k] = r.force;
             c.ftan[k] = tj * (1.0 / rj);
         }
+        c.touch.iter().map(|&t| t as usize).sum()
     }
 
     /// One law without rolling, twisting or rescaling for every pair: the touching
     /// entries are gathered into blocks and the law runs over each block's arrays
     /// ([`Plain::respond`]), the same operations as [`respond`], so the same bits.
-    fn blocked(&self, law: &Plain, c: &mut Chunk) {
+    /// Returns how many entries touch.
+    fn blocked(&self, law: &Plain, c: &mut Chunk) -> usize {
         let base = self.row[c.range.start] as usize;
         c.force.fill(Vector::ZERO);
         c.torque.fill(AngVector::default());
@@ -193,13 +217,10 @@ impl<const P: u8> Ctx<'_, P> {
         let mut len = 0usize;
         for k in 0..c.slot.len() {
             let (i, j) = (self.owner[base + k] as usize, self.nbr[base + k] as usize);
-            c.fpair[k] = Vector::ZERO;
-            c.ftan[k] = AngVector::default();
             let d = self.image.apply(self.pos[j] - self.pos[i]);
             let rsum = self.radius[i] + self.radius[j];
             let dist2 = d.length_squared();
-            if !(dist2 < rsum * rsum && dist2 > 0.0) {
-                c.pool.release(&mut c.slot[k]);
+            if !c.touches(k, dist2 < rsum * rsum && dist2 > 0.0) {
                 continue;
             }
             c.pool.take(&mut c.slot[k]);
@@ -216,6 +237,7 @@ impl<const P: u8> Ctx<'_, P> {
             }
         }
         self.flush(law, &mut b, len, c);
+        c.touch.iter().map(|&t| t as usize).sum()
     }
 
     /// Runs the law over the first `len` pairs of the block and adds their forces in

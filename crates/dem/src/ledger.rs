@@ -90,7 +90,8 @@ impl EnergyLedger {
     }
 }
 
-/// What one pair pass adds up, per chunk and then in chunk order.
+/// What one pair pass adds up: per particle (its row), then over the particles in
+/// ascending id ([`in_id_order`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct PassTally {
     /// Dashpot work.
@@ -105,25 +106,60 @@ pub(crate) struct PassTally {
     pub tangential_before: f64,
 }
 
-impl PassTally {
-    /// Every rank's terms added up, in rank order.
-    pub(crate) fn reduce<R: crate::comm::Reduce + ?Sized>(&mut self, reduce: &R) {
-        let mut v = [
-            self.damping,
-            self.friction,
-            self.normal,
-            self.tangential,
-            self.tangential_before,
-        ];
-        reduce.sum(&mut v);
-        [
-            self.damping,
-            self.friction,
-            self.normal,
-            self.tangential,
-            self.tangential_before,
-        ] = v;
+/// The pass's total from each stored particle's row terms `rows` (its pairs with higher
+/// ids): the rows of the particles this rank `owns`, gathered from every rank through
+/// `reduce` and added in ascending id, so that each pair counts once (on the rank that
+/// owns its lower id) and the sum is the same bit for bit on any rank count. On one rank
+/// the particles are taken in the order `by_id` (indices in ascending id, remade when
+/// the particles have been re-sorted since), with nothing gathered.
+pub(crate) fn in_id_order<R: crate::comm::Reduce + ?Sized>(
+    rows: &[PassTally],
+    id: &[u32],
+    owns: impl Fn(usize) -> bool,
+    reduce: &R,
+    by_id: &mut Vec<u32>,
+) -> PassTally {
+    let mut total = PassTally::default();
+    if reduce.ranks() == 1 {
+        let sorted = by_id.len() == id.len()
+            && by_id
+                .windows(2)
+                .all(|w| id[w[0] as usize] < id[w[1] as usize]);
+        if !sorted {
+            *by_id = (0..id.len() as u32).collect();
+            by_id.sort_unstable_by_key(|&i| id[i as usize]);
+        }
+        for &i in by_id.iter() {
+            total += rows[i as usize];
+        }
+        return total;
     }
+    let mut words = Vec::with_capacity(6 * rows.len());
+    for (i, r) in rows.iter().enumerate().filter(|&(i, _)| owns(i)) {
+        words.push(id[i] as u64);
+        let terms = [
+            r.damping,
+            r.friction,
+            r.normal,
+            r.tangential,
+            r.tangential_before,
+        ];
+        words.extend(terms.map(f64::to_bits));
+    }
+    let words = reduce.gather(words);
+    let mut records: Vec<&[u64]> = words.chunks_exact(6).collect();
+    records.sort_unstable_by_key(|r| r[0]);
+    for r in records {
+        let t = |k: usize| f64::from_bits(r[k]);
+        total += PassTally {
+            damping: t(1),
+            friction: t(2),
+            normal: t(3),
+            tangential: t(4),
+            tangential_before: t(5),
+        };
+    }
+    total
 }
 
 impl AddAssign for PassTally {

@@ -45,6 +45,17 @@ pub struct ContactList {
     /// The partner's torque from this entry per unit of its radius (the linear law: n ×
     /// F_t, each side's torque being its radius times this).
     pub ftan: Vec<AngVector>,
+    /// 1 where the entry's pair touched at the last evaluation, else 0. The pass zeroes
+    /// an entry's force only when it stops touching (a byte per entry read, where a
+    /// force is three to six words written), and on a dilute bed the gather reads the
+    /// forces of touching entries only. Not kept in checkpoints: a list read back
+    /// starts with every flag set, so the first pass zeroes what does not touch.
+    pub touch: Vec<u8>,
+    /// How many entries touched at the last evaluation (the gather's choice of loop).
+    pub touching: usize,
+    /// The particles' indices in ascending id, the order the energy ledger adds their
+    /// rows in (made when the ledger first needs it after a re-sort).
+    pub by_id: Vec<u32>,
     /// The entries in which particle j is the partner are
     /// `rev_entry[rev_row[j]..rev_row[j+1]]`, in ascending id of their row owner.
     pub rev_row: Vec<u32>,
@@ -223,6 +234,7 @@ impl ContactList {
         self.owner = Vec::new();
         self.fpair = Vec::new();
         self.ftan = Vec::new();
+        self.touch = Vec::new();
         self.rev_entry = Vec::new();
         self.history = Histories::default();
         if self.wall_shear.len() != n * nw {
@@ -285,6 +297,8 @@ impl ContactList {
         self.fpair.resize(m, Vector::ZERO);
         self.ftan.clear();
         self.ftan.resize(m, AngVector::default());
+        self.touch.resize(m, 0);
+        self.touching = 0;
         self.index_reverse(&particles.id);
         self.history = match old_granular {
             Some(old) => Histories::from_entries(&self.owner, n.div_ceil(CHUNK), |e| {
@@ -402,6 +416,15 @@ impl ContactList {
             let (group, tail) = rest.split_at_mut((rev_row[j + 1] - rev_row[j]) as usize);
             group.sort_unstable_by_key(|&e| id[owner[e as usize] as usize]);
             rest = tail;
+        }
+    }
+
+    /// Sizes `touch` to the list: a list read back from a checkpoint has no flags, and
+    /// gets every flag set, so that the first pass zeroes the forces of entries that
+    /// do not touch.
+    pub fn fit_touch(&mut self) {
+        if self.touch.len() != self.nbr.len() {
+            self.touch = vec![1; self.nbr.len()];
         }
     }
 

@@ -117,13 +117,15 @@ pub fn step_on<H: Hooks, C: Exchange>(
     }
     let (change, displacement) = neighbours(setup, s, &drift, hooks, comm);
     hooks.post_neighbour(&s.particles, change, displacement);
+    let c: &C = comm;
     pair_contacts_on(
         setup,
         &mut s.particles,
         &mut s.contacts,
         dt,
         s.ledger.as_mut(),
-        comm,
+        c,
+        |i| c.owns(i),
     );
     hooks.post_force(&mut s.particles);
     s.wall_loads = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt);

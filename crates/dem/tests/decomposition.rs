@@ -288,19 +288,9 @@ fn a_settled_bed_keeps_its_contacts_and_springs_through_migration() {
 #[test]
 fn a_dense_bed_has_the_serial_hash_on_1_2_and_4_ranks_and_threads() {
     let (set, mut p) = peer::bed(2000, 40);
-    for (k, x) in p.pos.iter_mut().enumerate() {
-        let (row, col) = ((k / 40) as f64, (k % 40) as f64);
-        let shift = 0.5 * ((k / 40) % 2) as f64;
-        *x = 0.95 * DVec2::new(col + 0.5 + shift, 0.866 * row + 0.6);
-    }
+    squeeze(&mut p, 40);
     let whole = State::new(&set, p);
     let (dt, steps, every) = (5e-4, 1500, 250);
-    let pool = |t: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build()
-            .unwrap()
-    };
     let mut serial = whole.clone();
     let mut hashes = Vec::new();
     let mut most = 0;
@@ -335,25 +325,142 @@ fn a_dense_bed_has_the_serial_hash_on_1_2_and_4_ranks_and_threads() {
         hs
     });
     assert_eq!(on_two, hashes, "serial, 2 threads");
+    on_grids(&set, &whole, (dt, steps, every), &hashes, |d, s| {
+        d.state_hash(s)
+    });
+}
+
+/// The squeezed bed of the test above under the granular law with rolling and twisting
+/// resistance (the sliding and rolling springs of each history in use): disks cross the cuts with
+/// their whole histories and wall histories, and the state hash (histories included,
+/// keyed by ids) is the serial one every 250 steps on 1 × 1, 2 × 1, 1 × 2 and 2 × 2 ranks
+/// at 1 and 2 threads.
+#[test]
+fn a_granular_bed_carries_its_histories_across_ranks_bit_for_bit() {
+    use grains_dem::granular::{Damping, GranularParams, Normal, Rolling, Tangential};
+    use grains_dem::PairTable;
+    let (mut set, mut p) = peer::bed(600, 20);
+    let mut law = GranularParams::lammps(
+        Normal::Hooke,
+        4000.0,
+        Damping::Tsuji,
+        0.5,
+        0.3,
+        Tangential::LinearHistory,
+        Some(1143.0),
+        0.5,
+        0.3,
+    );
+    law.rolling = Some(Rolling {
+        kr: 500.0,
+        gamma_r: 5.0,
+        mu_r: 0.1,
+    });
+    law.twisting = true;
+    set.granular = Some(PairTable::from_fn(1, |_, _| law));
+    squeeze(&mut p, 20);
+    let whole = State::new(&set, p);
+    let (dt, steps, every) = (5e-4, 1000, 250);
+    let mut serial = whole.clone();
+    let mut hashes = Vec::new();
+    let (mut rolling, mut walls) = (0, 0);
+    for k in 0..steps {
+        step(&set, &mut serial, dt);
+        if k % every == every - 1 {
+            hashes.push(state_hash(&serial));
+            let l = &serial.contacts;
+            let live = (0..l.len()).filter_map(|e| l.granular(e));
+            // The premise: histories with their sliding and rolling springs wound up
+            // (2D: [ξ_t, a_prev, ξ_roll, ξ_twist]; a disk does not twist), walls' too.
+            let wound = |h: &[f64; 4]| h[0] != 0.0 && h[2] != 0.0;
+            rolling = rolling.max(live.filter(wound).count());
+            let wall_live = l.wall_history.iter().filter(|h| h[0] != 0.0).count();
+            walls = walls.max(wall_live);
+        }
+    }
+    assert!(
+        rolling > 50,
+        "{rolling} histories with sliding and rolling springs"
+    );
+    assert!(walls > 5, "{walls} wall histories");
+    on_grids(&set, &whole, (dt, steps, every), &hashes, |d, s| {
+        d.state_hash(s)
+    });
+}
+
+/// A pool of `t` threads.
+fn pool(t: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(t)
+        .build()
+        .unwrap()
+}
+
+/// Runs `whole` for `steps` steps of `dt` on 1 × 1, 2 × 1, 1 × 2 and 2 × 2 in-process
+/// ranks at 1 and 2 threads each, and checks what `record` takes every `every` steps
+/// against the serial run's, `want`.
+fn on_grids<T: PartialEq + std::fmt::Debug + Send>(
+    set: &Setup,
+    whole: &State,
+    (dt, steps, every): (f64, usize, usize),
+    want: &[T],
+    record: impl Fn(&Decomposed<Local>, &State) -> T + Sync,
+) {
     for threads in [1, 2] {
         for (ranks, dims) in [(1, [1, 1]), (2, [2, 1]), (2, [1, 2]), (4, [2, 2])] {
             let out = run_ranks(ranks, |l| {
                 pool(threads).install(|| {
-                    let mut d = Decomposed::new(l, &set, Some(dims), 0.5).unwrap();
-                    let mut s = d.start(&set, &whole);
+                    let mut d = Decomposed::new(l, set, Some(dims), 0.5).unwrap();
+                    let mut s = d.start(set, whole);
                     let mut hs = Vec::new();
                     for k in 0..steps {
-                        step_on(&set, &mut s, dt, &mut NoHooks, &mut d);
+                        step_on(set, &mut s, dt, &mut NoHooks, &mut d);
                         if k % every == every - 1 {
-                            hs.push(d.state_hash(&s));
+                            hs.push(record(&d, &s));
                         }
                     }
                     hs
                 })
             });
             for (r, hs) in out.iter().enumerate() {
-                assert_eq!(hs, &hashes, "{dims:?}, {threads} threads, rank {r}");
+                assert_eq!(hs, want, "{dims:?}, {threads} threads, rank {r}");
             }
         }
     }
+}
+
+/// Sets the disks on a triangular lattice `nx` wide with a spacing of 0.95 (less than
+/// most diameters: each overlaps up to six neighbours).
+fn squeeze(p: &mut Particles, nx: usize) {
+    for (k, x) in p.pos.iter_mut().enumerate() {
+        let (row, col) = ((k / nx) as f64, (k % nx) as f64);
+        let shift = 0.5 * ((k / nx) % 2) as f64;
+        *x = 0.95 * DVec2::new(col + 0.5 + shift, 0.866 * row + 0.6);
+    }
+}
+
+/// The energy ledger of a squeezed bed springing apart: each pair's terms are counted by
+/// the rank that owns its lower id and added in id order, so on 1 × 1, 2 × 1, 1 × 2 and
+/// 2 × 2 ranks at 1 and 2 threads the ledger is the serial one bit for bit (with the
+/// state hash) every 250 steps.
+#[test]
+fn the_energy_ledger_is_the_serial_one_on_any_grid() {
+    let (set, mut p) = peer::bed(600, 20);
+    squeeze(&mut p, 20);
+    let mut whole = State::new(&set, p);
+    whole.ledger = Some(grains_dem::EnergyLedger::starting(&set, &whole));
+    let (dt, steps, every) = (5e-4, 1000, 250);
+    let mut serial = whole.clone();
+    let mut want = Vec::new();
+    for k in 0..steps {
+        step(&set, &mut serial, dt);
+        if k % every == every - 1 {
+            want.push((state_hash(&serial), serial.ledger.unwrap()));
+        }
+    }
+    let last = want.last().unwrap().1;
+    assert!(last.damping > 0.0 && last.friction > 0.0 && last.springs_released > 0.0);
+    on_grids(&set, &whole, (dt, steps, every), &want, |d, s| {
+        (d.state_hash(s), s.ledger.unwrap())
+    });
 }

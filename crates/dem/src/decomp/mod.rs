@@ -7,7 +7,8 @@
 //!
 //! - at a rebuild, particles whose centre left the box go to the neighbour that owns
 //!   them now, with every field, their wall springs and their (partner id, spring)
-//!   rows; then each rank sends its neighbours fresh ghosts;
+//!   rows (under the granular law, whole histories); then each rank sends its
+//!   neighbours fresh ghosts;
 //! - at the end of every step, each ghost takes its owner's position, velocity, spin,
 //!   force and torque, so the next kick and drift move it exactly as the owner;
 //! - a pair across a boundary is listed and computed on both ranks (the law gives the
@@ -24,16 +25,15 @@ pub mod words;
 pub use grid::{GridError, RankGrid};
 
 use crate::comm::{Exchange, Post, Reduce};
+use crate::history::{GranularHistory, Histories};
 use crate::math::{self, Tangent, DIM};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::step::State;
+use crate::CHUNK;
 use std::collections::HashMap;
-use words::Reader;
-
-/// A particle's tangential springs as (partner id, spring as seen from it).
-type Rows = Vec<(u32, Tangent)>;
+use words::{Carried, Reader};
 
 /// One rank of a decomposed run.
 pub struct Decomposed<C> {
@@ -62,9 +62,6 @@ impl<C: Reduce + Post> Decomposed<C> {
         dims: Option<[usize; DIM]>,
         r_max: f64,
     ) -> Result<Self, GridError> {
-        if setup.granular.is_some() {
-            return Err(GridError::Unsupported("the granular contact law"));
-        }
         if crate::verlet::frame_centre(setup).is_some() {
             return Err(GridError::Unsupported("an expanding neighbour frame"));
         }
@@ -119,14 +116,12 @@ impl<C: Reduce + Post> Decomposed<C> {
         let me = self.comm.rank();
         let owner: Vec<usize> = p.pos.iter().map(|&x| self.grid.owner(x)).collect();
         let mine: Vec<bool> = owner.iter().map(|&o| o == me).collect();
-        let mut rows = rows_of(&whole.contacts, p, &mine);
-        let nw = setup.walls.len();
+        let mut rows = carried_of(setup, &whole.contacts, p, &mine);
         let mut local = Particles::default();
-        let (mut hist, mut walls) = (Vec::new(), Vec::new());
+        let mut hist = Vec::new();
         for i in (0..p.len()).filter(|&i| mine[i]) {
             words::copy_particle(p, i, &mut local);
             hist.push(std::mem::take(&mut rows[i]));
-            walls.push(wall_row(&whole.contacts, i, nw));
         }
         for (k, &q) in self.neighbours.iter().enumerate() {
             let near_me = |i: usize| owner[i] == q && self.grid.distance(p.pos[i], me) <= self.halo;
@@ -145,12 +140,13 @@ impl<C: Reduce + Post> Decomposed<C> {
         }
         let mut s = State {
             wall_loads: whole.wall_loads.clone(),
+            ledger: whole.ledger,
             time: whole.time,
             step: whole.step,
             ..Default::default()
         };
         s.contacts.builds = whole.contacts.builds;
-        install(setup, &mut s, local, hist, walls);
+        install(setup, &mut s, local, hist);
         let bounds = (setup.domain.lo, setup.domain.hi);
         s.contacts.rebuild_within(setup, bounds, &mut s.particles);
         s.contacts.builds = whole.contacts.builds;
@@ -198,15 +194,10 @@ impl<C: Reduce + Post> Decomposed<C> {
 }
 
 /// Installs `local` (owned particles first, then ghosts) into `s` with a list that
-/// holds nothing but the owned particles' springs, in the form the rebuild carries
-/// over (rows by particle index, partner by index).
-fn install(
-    setup: &Setup,
-    s: &mut State,
-    local: Particles,
-    hist: Vec<Rows>,
-    walls: Vec<Vec<Tangent>>,
-) {
+/// holds nothing but the owned particles' springs (or granular histories), in the form
+/// the rebuild carries over (rows by particle index, partner by index, each entry's
+/// history as seen from its row's particle).
+fn install(setup: &Setup, s: &mut State, local: Particles, hist: Vec<Carried>) {
     let n = local.len();
     let nw = setup.walls.len();
     let at: HashMap<u32, u32> = local
@@ -219,50 +210,97 @@ fn install(
     list.row = vec![0];
     list.nbr.clear();
     list.shear.clear();
-    for (i, rows) in hist.iter().enumerate() {
-        for &(j, xi) in rows {
-            // A pair of two owned particles is in both rows: listed once.
-            if let Some(&j) = at
-                .get(&j)
-                .filter(|&&j| j as usize >= hist.len() || i < j as usize)
-            {
+    let mut granular = Vec::new();
+    // A pair of two owned particles is in both rows: listed once.
+    let partner = |i: usize, j: u32| {
+        at.get(&j)
+            .copied()
+            .filter(|&j| j as usize >= hist.len() || i < j as usize)
+    };
+    for (i, c) in hist.iter().enumerate() {
+        for &(j, xi) in &c.rows {
+            if let Some(j) = partner(i, j) {
                 list.nbr.push(j);
                 list.shear.push(xi);
+                granular.push(None);
+            }
+        }
+        for &(j, h) in &c.granular_rows {
+            if let Some(j) = partner(i, j) {
+                list.nbr.push(j);
+                list.shear.push(Tangent::default());
+                granular.push(Some(h));
             }
         }
         list.row.push(list.nbr.len() as u32);
     }
     list.row.resize(n + 1, list.nbr.len() as u32);
     list.index_owners();
-    list.history = Default::default();
-    list.wall_shear = walls.into_iter().flatten().collect();
+    list.history = match setup.granular {
+        Some(_) => Histories::from_entries(&list.owner, n.div_ceil(CHUNK), |e| granular[e]),
+        None => Default::default(),
+    };
+    list.wall_shear = hist.iter().flat_map(|c| c.walls.iter().copied()).collect();
     list.wall_shear.resize(n * nw, Tangent::default());
+    list.wall_history = match setup.granular {
+        Some(_) => {
+            let mut w: Vec<GranularHistory> = hist
+                .iter()
+                .flat_map(|c| c.granular_walls.iter().copied())
+                .collect();
+            w.resize(n * nw, [0.0; crate::granular::WIDTH]);
+            w
+        }
+        None => Vec::new(),
+    };
     s.particles = local;
 }
 
-/// Particle `i`'s wall springs.
-fn wall_row(list: &ContactList, i: usize, nw: usize) -> Vec<Tangent> {
-    list.wall_shear
-        .get(i * nw..(i + 1) * nw)
-        .map_or_else(|| vec![Tangent::default(); nw], <[Tangent]>::to_vec)
-}
-
-/// The springs of each particle `keep` names, by its index, from the list.
-fn rows_of(list: &ContactList, p: &Particles, keep: &[bool]) -> Vec<Rows> {
-    let mut rows = vec![Vec::new(); p.len()];
+/// The contact history of each particle `keep` names, by its index, from the list: its
+/// wall springs (or granular wall histories) and its pair springs (or granular
+/// histories) as seen from it.
+fn carried_of(setup: &Setup, list: &ContactList, p: &Particles, keep: &[bool]) -> Vec<Carried> {
+    let nw = setup.walls.len();
+    let mut rows = vec![Carried::default(); p.len()];
+    for (i, c) in rows.iter_mut().enumerate().filter(|(i, _)| keep[*i]) {
+        c.walls = list
+            .wall_shear
+            .get(i * nw..(i + 1) * nw)
+            .map_or_else(|| vec![Tangent::default(); nw], <[Tangent]>::to_vec);
+        if setup.granular.is_some() {
+            c.granular_walls = list
+                .wall_history
+                .get(i * nw..(i + 1) * nw)
+                .map_or_else(|| vec![[0.0; crate::granular::WIDTH]; nw], <[_]>::to_vec);
+        }
+    }
     if list.owner.len() != list.nbr.len() || list.shear.len() != list.nbr.len() {
         return rows;
     }
+    let kept = list.history.kept(list.nbr.len());
     for e in 0..list.nbr.len() {
         let (i, j, xi) = (list.owner[e] as usize, list.nbr[e] as usize, list.shear[e]);
-        if xi == Tangent::default() {
+        if xi != Tangent::default() {
+            if keep[i] {
+                rows[i].rows.push((p.id[j], xi));
+            }
+            if keep[j] {
+                rows[j].rows.push((p.id[i], math::swapped(xi)));
+            }
+        }
+        if !kept || list.history.slot[e] == crate::history::NONE {
             continue;
         }
-        if keep[i] {
-            rows[i].push((p.id[j], xi));
-        }
-        if keep[j] {
-            rows[j].push((p.id[i], math::swapped(xi)));
+        let h = list.history.get(e, list.owner[e]);
+        if h.iter().any(|&x| x != 0.0) {
+            if keep[i] {
+                rows[i].granular_rows.push((p.id[j], h));
+            }
+            if keep[j] {
+                rows[j]
+                    .granular_rows
+                    .push((p.id[i], crate::granular::swapped(&h)));
+            }
         }
     }
     rows
@@ -302,32 +340,28 @@ impl<C: Reduce + Post> Exchange for Decomposed<C> {
         let me = self.comm.rank();
         let nw = setup.walls.len();
         let p = &s.particles;
-        let mut rows = rows_of(&s.contacts, p, &self.owned);
+        let mut rows = carried_of(setup, &s.contacts, p, &self.owned);
         // Round 1: particles that left the box, with their history.
         let mut out = vec![vec![0u64]; self.neighbours.len()];
         let mut local = Particles::default();
-        let (mut hist, mut walls) = (Vec::new(), Vec::new());
+        let mut hist = Vec::new();
         for i in (0..p.len()).filter(|&i| self.owned[i]) {
-            let wr = wall_row(&s.contacts, i, nw);
             let to = self.grid.owner(p.pos[i]);
             if to == me {
                 words::copy_particle(p, i, &mut local);
                 hist.push(std::mem::take(&mut rows[i]));
-                walls.push(wr);
                 continue;
             }
             let w = &mut out[self.slot(to)];
             w[0] += 1;
             words::put_particle(w, p, i);
-            words::put_history(w, &wr, &rows[i]);
+            words::put_history(w, &rows[i]);
         }
         for got in self.swap(out) {
             let mut r = Reader::new(&got);
             for _ in 0..r.word() {
                 words::get_particle(&mut r, &mut local);
-                let (wr, rw) = words::get_history(&mut r, nw);
-                walls.push(wr);
-                hist.push(rw);
+                hist.push(words::get_history(&mut r, nw));
             }
         }
         // Round 2: fresh ghosts of the particles now owned.
@@ -349,7 +383,7 @@ impl<C: Reduce + Post> Exchange for Decomposed<C> {
             }
             self.recv_ids[k] = local.id[from..].to_vec();
         }
-        install(setup, s, local, hist, walls);
+        install(setup, s, local, hist);
     }
 
     fn rebuilt(&mut self, _setup: &Setup, s: &mut State) {
@@ -397,6 +431,11 @@ impl<C: Reduce + Post> Exchange for Decomposed<C> {
                 words::get_motion(&mut r, p, i as usize);
             }
         }
+    }
+
+    fn owns(&self, i: usize) -> bool {
+        // The inherent method, of the same meaning.
+        Decomposed::owns(self, i)
     }
 
     fn owned(&self, particles: &Particles) -> usize {

@@ -1,6 +1,8 @@
 //! A particle as the words a message carries: every field, bit for bit, and for a
-//! particle changing rank its wall springs and its (partner id, spring) rows.
+//! particle changing rank its wall springs and its (partner id, spring) rows (the
+//! granular law's whole histories likewise).
 
+use crate::history::GranularHistory;
 use crate::math::{AngVector, Components, Tangent, Vector};
 use crate::particles::Particles;
 
@@ -115,23 +117,58 @@ pub fn get_motion(r: &mut Reader, p: &mut Particles, i: usize) {
     p.torque[i] = r.get::<AngVector>();
 }
 
+/// A particle's contact history, which goes with it to another rank: its wall springs
+/// and its pair springs as (partner id, spring as seen from it), under the linear law;
+/// the same as whole histories under the granular law (the other pair empty).
+#[derive(Clone, Debug, Default)]
+pub struct Carried {
+    /// The linear law's spring with each wall.
+    pub walls: Vec<Tangent>,
+    /// The linear law's springs with other particles.
+    pub rows: Vec<(u32, Tangent)>,
+    /// The granular law's history with each wall (empty under the linear law).
+    pub granular_walls: Vec<GranularHistory>,
+    /// The granular law's histories with other particles.
+    pub granular_rows: Vec<(u32, GranularHistory)>,
+}
+
 /// Appends a particle's contact history: its wall springs, then the number of its
-/// springs and each as (partner id, spring as seen from it).
-pub fn put_history(out: &mut Vec<u64>, walls: &[Tangent], rows: &[(u32, Tangent)]) {
-    for &w in walls {
+/// springs and each as (partner id, spring as seen from it); then the number of its
+/// granular wall histories and each, and the same for its granular pair histories.
+pub fn put_history(out: &mut Vec<u64>, c: &Carried) {
+    for &w in &c.walls {
         put(out, w);
     }
-    out.push(rows.len() as u64);
-    for &(j, xi) in rows {
+    out.push(c.rows.len() as u64);
+    for &(j, xi) in &c.rows {
         out.push(j as u64);
         put(out, xi);
+    }
+    out.push(c.granular_walls.len() as u64);
+    for h in &c.granular_walls {
+        out.extend(h.iter().map(|x| x.to_bits()));
+    }
+    out.push(c.granular_rows.len() as u64);
+    for (j, h) in &c.granular_rows {
+        out.push(*j as u64);
+        out.extend(h.iter().map(|x| x.to_bits()));
     }
 }
 
 /// Reads what [`put_history`] wrote, for `walls` walls.
-pub fn get_history(r: &mut Reader, walls: usize) -> (Vec<Tangent>, Vec<(u32, Tangent)>) {
-    let w = (0..walls).map(|_| r.get()).collect();
+pub fn get_history(r: &mut Reader, walls: usize) -> Carried {
+    let walls = (0..walls).map(|_| r.get()).collect();
     let n = r.word() as usize;
     let rows = (0..n).map(|_| (r.word() as u32, r.get())).collect();
-    (w, rows)
+    let history = |r: &mut Reader| -> GranularHistory { std::array::from_fn(|_| r.f64()) };
+    let n = r.word() as usize;
+    let granular_walls = (0..n).map(|_| history(r)).collect();
+    let n = r.word() as usize;
+    let granular_rows = (0..n).map(|_| (r.word() as u32, history(r))).collect();
+    Carried {
+        walls,
+        rows,
+        granular_walls,
+        granular_rows,
+    }
 }
