@@ -90,3 +90,45 @@ fn a_2d_dem_run_on_2_and_4_ranks_is_the_serial_run() {
         );
     }
 }
+
+/// Under several ranks, what the decomposition does not carry, and a grid that does not
+/// match the rank count, are refused on every rank with one line, nothing written.
+#[test]
+fn what_ranks_cannot_run_is_refused_on_every_rank() {
+    let dir = tempfile::tempdir().unwrap();
+    let column = example("ranks_column.toml");
+    let mut wrong = column.clone();
+    wrong.text = wrong
+        .text
+        .replace("[run]", "[parallel]\nranks = [3, 1]\n\n[run]");
+    let cases = [
+        (
+            wrong,
+            "parallel.ranks = [3, 1] makes 3 ranks, but the run has 2",
+        ),
+        (
+            example("head_on.toml"),
+            "is not supported on several ranks yet",
+        ),
+    ];
+    for (k, (src, want)) in cases.iter().enumerate() {
+        let out = dir.path().join(format!("case{k}"));
+        for (r, got) in on_ranks(src, 2, &out).into_iter().enumerate() {
+            let e = got
+                .err()
+                .unwrap_or_else(|| panic!("case {k}, rank {r}: ran"));
+            assert!(e.contains(want) && !e.contains('\n'), "rank {r}: {e}");
+        }
+        assert!(!out.exists(), "case {k}: nothing written");
+    }
+    // One rank is refused a grid of several, too.
+    let mut two = column.clone();
+    two.text = two
+        .text
+        .replace("[run]", "[parallel]\nranks = [1, 2]\n\n[run]");
+    let e = run::run(&two, RunOptions::new(dir.path().join("one"))).unwrap_err();
+    assert!(
+        e.to_string().contains("makes 2 ranks, but the run has 1"),
+        "{e}"
+    );
+}
