@@ -5,6 +5,7 @@
 mod interrupt;
 mod memory;
 mod progress;
+mod ranks;
 
 use clap::{Parser, Subcommand};
 use grains_sim::run::{self as sim_run, Finished, RunError, RunOptions};
@@ -179,7 +180,8 @@ fn main() -> ExitCode {
     memory::return_large_blocks();
     // Started by mpirun on several ranks: each rank says why it cannot go on, before
     // anything is read or written (not N runs writing into one directory).
-    if let Some(line) = grains_mpi::refuse(grains_mpi::launch()) {
+    let launch = grains_mpi::launch();
+    if let Some(line) = grains_mpi::refuse(launch) {
         eprintln!("error: {line}");
         return ExitCode::from(1);
     }
@@ -191,7 +193,24 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(e) => return argument_error(e),
     };
+    // Only rank 0 speaks; every rank exits with the same code.
+    let quiet = launch.rank != 0;
+    if let Some(line) = ranks::refuse(launch, &name_of(&cli.command)) {
+        return if quiet {
+            ExitCode::from(1)
+        } else {
+            fail(1, &line)
+        };
+    }
     let result = match cli.command {
+        Command::Run {
+            scenario,
+            out,
+            threads,
+            stop_at_step,
+        } if launch.ranks > 1 => {
+            ranks::cmd_run(launch, scenario.as_deref(), out, threads, stop_at_step)
+        }
         Command::Run {
             scenario,
             out,
@@ -215,9 +234,35 @@ fn main() -> ExitCode {
             json,
             times,
         } => cmd_analyze(&file, out, json, times.as_deref()),
-        Command::Bench { what } => cmd_bench(what),
+        Command::Bench { what } => cmd_bench(what, launch.ranks > 1),
     };
-    result.unwrap_or_else(|(code, msg)| fail(code, &msg))
+    result.unwrap_or_else(|(code, msg)| {
+        if quiet {
+            ExitCode::from(code)
+        } else {
+            fail(code, &msg)
+        }
+    })
+}
+
+/// The command as typed, for the refusal of one that does not run on several ranks.
+fn name_of(c: &Command) -> String {
+    match c {
+        Command::Run { .. } => "run".into(),
+        Command::Resume { .. } => "resume".into(),
+        Command::Check { .. } => "check".into(),
+        Command::Pack { .. } => "pack".into(),
+        Command::Analyze { .. } => "analyze".into(),
+        Command::Bench {
+            what: BenchCommand::Dem { dim: 2, .. },
+        } => "bench dem".into(),
+        Command::Bench {
+            what: BenchCommand::Dem { dim, .. },
+        } => format!("bench dem --dim {dim}"),
+        Command::Bench {
+            what: BenchCommand::Mpm { .. },
+        } => "bench mpm".into(),
+    }
 }
 
 /// An error to report: exit code and one line.
@@ -269,7 +314,10 @@ fn cmd_run(
     let scn = grains_sim::scenario::parse(&src).map_err(input)?;
     let out = out.unwrap_or_else(|| driver::default_out(scn.name()));
     driver::writable_out(&out).map_err(input)?;
-    report(sim_run::run(&src, options(out, threads, stop_at_step)))
+    report(
+        sim_run::run(&src, options(out, threads, stop_at_step)),
+        true,
+    )
 }
 
 fn cmd_resume(
@@ -278,16 +326,17 @@ fn cmd_resume(
     stop_at_step: Option<u64>,
 ) -> Result<ExitCode, Failure> {
     let threads = set_threads(threads)?;
-    report(sim_run::resume(
-        dir,
-        options(dir.to_path_buf(), threads, stop_at_step),
-    ))
+    report(
+        sim_run::resume(dir, options(dir.to_path_buf(), threads, stop_at_step)),
+        true,
+    )
 }
 
-/// Prints the checks and turns the end of a run into its exit code.
-fn report(result: Result<Finished, RunError>) -> Result<ExitCode, Failure> {
+/// Prints the checks (when `speak`: rank 0 of several prints for all) and turns the end
+/// of a run into its exit code.
+fn report(result: Result<Finished, RunError>, speak: bool) -> Result<ExitCode, Failure> {
     let done = result.map_err(input)?;
-    for c in &done.checks {
+    for c in done.checks.iter().filter(|_| speak) {
         eprintln!(
             "  check {:32} measured {:>12.6e}  expected {:>12.6e}  {}",
             c.name,
@@ -309,7 +358,9 @@ fn report(result: Result<Finished, RunError>) -> Result<ExitCode, Failure> {
             ),
         )),
         Status::Paused => {
-            eprintln!("grains: paused with a checkpoint; continue with `grains resume {out}`");
+            if speak {
+                eprintln!("grains: paused with a checkpoint; continue with `grains resume {out}`");
+            }
             Ok(ExitCode::SUCCESS)
         }
         Status::Completed | Status::AtRest => {
@@ -320,7 +371,9 @@ fn report(result: Result<Finished, RunError>) -> Result<ExitCode, Failure> {
                     format!("{failed} check(s) failed; see {out}/summary.json"),
                 ));
             }
-            eprintln!("grains: done ({}); outputs in {out}", done.status.name());
+            if speak {
+                eprintln!("grains: done ({}); outputs in {out}", done.status.name());
+            }
             Ok(ExitCode::SUCCESS)
         }
     }
@@ -480,7 +533,7 @@ fn cmd_analyze(
     Ok(ExitCode::SUCCESS)
 }
 
-fn cmd_bench(what: BenchCommand) -> Result<ExitCode, Failure> {
+fn cmd_bench(what: BenchCommand, several: bool) -> Result<ExitCode, Failure> {
     let r = match what {
         BenchCommand::Dem {
             dim,
@@ -500,6 +553,9 @@ fn cmd_bench(what: BenchCommand) -> Result<ExitCode, Failure> {
                         Some(path) => bench::dem::Bed::LammpsData(path, tile),
                         None => bench::dem::Bed::Built(particles),
                     };
+                    if several {
+                        return ranks::cmd_bench_dem(bed, steps);
+                    }
                     bench::dem::run(&bed, steps)
                 }
                 (3, Some(path)) if tile == 1 => bench::dem3d::run(&path, steps),

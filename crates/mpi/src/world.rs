@@ -6,6 +6,7 @@
 use grains_dem::comm::Post;
 use grains_dem::{Exchange, Reduce};
 use mpi::datatype::PartitionMut;
+use mpi::environment::Threading;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use mpi::Count;
@@ -17,10 +18,23 @@ pub struct World {
     _universe: mpi::environment::Universe,
 }
 
+// A run steps from a worker of the thread pool (rayon::scope), not from the thread that
+// initialised MPI, so the world must move between threads, which rsmpi's communicator (a
+// raw MPI handle) does not allow by itself.
+// SAFETY: `init` only hands out a world when MPI granted MPI_THREAD_SERIALIZED or more,
+// which allows calls from any thread as long as no two run at once; `World` is not
+// `Sync`, so it is used by one thread at a time.
+#[allow(unsafe_code)]
+unsafe impl Send for World {}
+
 impl World {
-    /// Initialises MPI; `None` if it already was in this process.
+    /// Initialises MPI for calls from any one thread at a time; `None` if it already was
+    /// in this process, or the library cannot serve calls from several threads.
     pub fn init() -> Option<World> {
-        let universe = mpi::initialize()?;
+        let (universe, level) = mpi::initialize_with_threading(Threading::Serialized)?;
+        if level < Threading::Serialized {
+            return None;
+        }
         Some(World {
             comm: universe.world(),
             _universe: universe,

@@ -72,6 +72,10 @@ pub trait Simulation: Send {
     fn checkpoint(&self) -> Option<Vec<u8>> {
         None
     }
+    /// Makes the whole state readable by the observers, before a frame and at the end:
+    /// a run spread over ranks gathers it on rank 0 there (so every rank calls this at
+    /// the same steps), not at every step.
+    fn gather(&mut self) {}
 }
 
 /// What an observer asks of the run after a sample.
@@ -441,6 +445,9 @@ impl Stepper {
             counters.snapshots_done += 1;
             snapped = true;
         }
+        if snapped || regular {
+            sim.gather();
+        }
         // A snapshot on a step the schedule also wants is one frame, not the same
         // state twice in the series.
         if snapped {
@@ -484,12 +491,13 @@ impl Stepper {
     /// observer reports.
     pub fn finish<S: Simulation>(
         &mut self,
-        sim: &S,
+        sim: &mut S,
         observers: &mut [&mut dyn Observer<S>],
         status: Status,
         control: &mut Control,
     ) -> anyhow::Result<Outcome> {
         control.progress.finish();
+        sim.gather();
         let clock = sim.clock();
         let wall_time_s = self.counters.wall_time + self.stepping;
         let steps_run = self.counters.steps_before + clock.step - self.first_step;

@@ -27,7 +27,18 @@ pub struct HistoryRecorder {
 impl HistoryRecorder {
     /// Creates `out/history.csv` with the first row, measured now.
     pub fn create<S: Recorded>(out: &Path, sim: &mut S) -> anyhow::Result<Self> {
-        let mut history = open(&out.join("history.csv"), sim)?;
+        Self::first_row(open(&out.join("history.csv"), sim)?, sim)
+    }
+
+    /// A history written nowhere (a rank other than 0 of a run spread over ranks),
+    /// with the first row measured now, as [`HistoryRecorder::create`] measures it: a
+    /// sample there is taken by every rank together.
+    pub fn discarding<S: Recorded>(sim: &mut S) -> anyhow::Result<Self> {
+        let null = if cfg!(windows) { "NUL" } else { "/dev/null" };
+        Self::first_row(open(Path::new(null), sim)?, sim)
+    }
+
+    fn first_row<S: Recorded>(mut history: History, sim: &mut S) -> anyhow::Result<Self> {
         let sample = sim.sample();
         history.push(&sim.row(&sample))?;
         Ok(HistoryRecorder { history })

@@ -90,6 +90,31 @@ pub fn run(src: &Source, mut opts: RunOptions) -> Result<Finished, RunError> {
     open(src, &mut opts)?.run_to_end(&mut opts, src)
 }
 
+/// Runs the scenario `src` as one rank of several (`mpirun -np N grains run`), `link`
+/// carrying the messages: rank 0 writes every output, the others write nothing. 2D
+/// DEM scenarios only (docs/parallel.md); anything else is refused with one line, on
+/// every rank alike.
+pub fn run_on(
+    src: &Source,
+    mut opts: RunOptions,
+    link: dem::ranks::Link,
+) -> Result<Finished, RunError> {
+    let mut live = match scenario::parse(src).map_err(RunError::Input)? {
+        Scenario::Dem(s) => dem::run::open_on(&s, src, &mut opts, None, Some(link))?,
+        other => {
+            let what = match other {
+                Scenario::Dem3(_) => "dim = 3".to_string(),
+                _ => format!("engine = \"{}\"", other.engine()),
+            };
+            return Err(RunError::Input(format!(
+                "{}: {what} is not supported on several ranks yet (docs/parallel.md); allowed: 2D DEM scenarios, or 1 rank",
+                src.origin
+            )));
+        }
+    };
+    run_live(&mut live, &mut opts, src)
+}
+
 /// Continues the run in `dir` from its checkpoint.
 pub fn resume(dir: &Path, mut opts: RunOptions) -> Result<Finished, RunError> {
     let (mut live, src) = open_resumed(dir, &mut opts)?;

@@ -18,6 +18,7 @@
 //!
 //! A rank grid of one rank exchanges nothing and is the serial run bit for bit.
 
+mod gather;
 pub mod grid;
 pub mod local;
 pub mod words;

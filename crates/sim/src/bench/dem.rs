@@ -25,24 +25,7 @@ pub enum Bed {
 /// Times `steps` steps of the DEM engine on `bed`, on the current thread pool. A bed
 /// too large for memory is refused before it is built.
 pub fn run(bed: &Bed, steps: u64) -> Result<Report, String> {
-    let threads = rayon::current_num_threads();
-    if steps == 0 {
-        return Err("--steps = 0: must be at least 1 (a rate needs timed steps)".into());
-    }
-    let (n, what) = match bed {
-        Bed::Built(0) => return Err("--particles = 0: must be at least 1".into()),
-        Bed::Built(n) => (*n as u64, "--particles".to_string()),
-        Bed::LammpsData(_, 0) => return Err("--tile = 0: must be at least 1".into()),
-        Bed::LammpsData(path, tile) => (
-            grains_core::lammps_data::atom_count(path).unwrap_or(0) * *tile as u64,
-            format!("--lammps-data {} --tile {tile}", path.display()),
-        ),
-    };
-    Estimate::new(n, steps, n.saturating_mul(330), rate::DEM, threads).fits_memory(&what)?;
-    let (setup, p) = match bed {
-        Bed::Built(n) => peer_bed(*n),
-        Bed::LammpsData(path, tile) => lammps_bed(path, *tile)?,
-    };
+    let (setup, p) = build(bed, steps)?;
     let particles = p.len();
     let mut state = State::new(&setup, p);
     let mut r = super::timed(particles, steps, || step(&setup, &mut state, DT));
@@ -64,6 +47,30 @@ pub fn run(bed: &Bed, steps: u64) -> Result<Report, String> {
         r.line("peak memory", format!("{mb:.0} MB"));
     }
     Ok(r)
+}
+
+/// The bed to time, for `steps` timed steps: refused before it is built when the
+/// arguments are out of range or it would not fit in memory.
+pub fn build(bed: &Bed, steps: u64) -> Result<(Setup, Particles), String> {
+    let threads = rayon::current_num_threads();
+    if steps == 0 {
+        return Err("--steps = 0: must be at least 1 (a rate needs timed steps)".into());
+    }
+    let (n, what) = match bed {
+        Bed::Built(0) => return Err("--particles = 0: must be at least 1".into()),
+        Bed::Built(n) => (*n as u64, "--particles".to_string()),
+        Bed::LammpsData(_, 0) => return Err("--tile = 0: must be at least 1".into()),
+        Bed::LammpsData(path, tile) => (
+            grains_core::lammps_data::atom_count(path).unwrap_or(0) * *tile as u64,
+            format!("--lammps-data {} --tile {tile}", path.display()),
+        ),
+    };
+    Estimate::new(n, steps, n.saturating_mul(330), rate::DEM, threads).fits_memory(&what)?;
+    let (setup, p) = match bed {
+        Bed::Built(n) => peer_bed(*n),
+        Bed::LammpsData(path, tile) => lammps_bed(path, *tile)?,
+    };
+    Ok((setup, p))
 }
 
 /// The peer benchmark's physics in a box `lo..hi`, periodic in x, floor at y = 0.

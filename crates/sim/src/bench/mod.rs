@@ -3,6 +3,7 @@
 
 pub mod dem;
 pub mod dem3d;
+pub mod dem_ranks;
 pub mod mpm;
 
 /// What a benchmark measured.

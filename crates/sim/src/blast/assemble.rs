@@ -477,6 +477,7 @@ fn ring_part(
         checks: Vec::new(),
         figures: Vec::new(),
         dispersal: None,
+        parallel: None,
     };
     // The DEM scenario names its own keys; say where they sit in this scenario. The
     // ring's material sits in `[ring]`, everything else in `[ring.packing]`.

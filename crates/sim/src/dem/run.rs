@@ -3,6 +3,7 @@
 
 use super::assemble::{assemble, assemble_with, Assembled};
 use super::probes::CheckObserver;
+use super::ranks::{self, Link};
 use super::records::figures;
 use super::rest::RestDetector;
 use super::scenario::Scenario;
@@ -17,7 +18,7 @@ use crate::run::{
 };
 use crate::source::Source;
 use grains_core::history::History;
-use grains_dem::State;
+use grains_dem::{Reduce, State};
 use std::path::{Path, PathBuf};
 
 /// A checkpoint read back: the run loop's progress and the engine state.
@@ -49,9 +50,14 @@ pub struct DemRun {
 
 struct Watchers {
     history: HistoryRecorder,
+    rest: Option<RestDetector>,
+    /// The observers that write or read every particle: on rank 0 (or the only rank).
+    writers: Option<Writers>,
+}
+
+struct Writers {
     frames: FrameRecorder,
     snaps: Snapshots,
-    rest: Option<RestDetector>,
     checks: CheckObserver,
     ends: Figures,
     dispersal: Option<DispersalObserver>,
@@ -59,14 +65,19 @@ struct Watchers {
 
 impl Watchers {
     fn list(&mut self) -> Vec<&mut dyn Observer<Dem>> {
-        let mut o: Vec<&mut dyn Observer<Dem>> =
-            vec![&mut self.history, &mut self.frames, &mut self.snaps];
+        let mut o: Vec<&mut dyn Observer<Dem>> = vec![&mut self.history];
+        let Some(w) = self.writers.as_mut() else {
+            o.extend(self.rest.as_mut().map(|r| r as &mut dyn Observer<Dem>));
+            return o;
+        };
+        o.push(&mut w.frames);
+        o.push(&mut w.snaps);
         if let Some(r) = self.rest.as_mut() {
             o.push(r);
         }
-        o.push(&mut self.checks);
-        o.push(&mut self.ends);
-        if let Some(d) = self.dispersal.as_mut() {
+        o.push(&mut w.checks);
+        o.push(&mut w.ends);
+        if let Some(d) = w.dispersal.as_mut() {
             o.push(d);
         }
         o
@@ -81,9 +92,29 @@ pub fn open(
     opts: &mut RunOptions,
     resume: Option<Resume>,
 ) -> Result<DemRun, RunError> {
+    open_on(s, src, opts, resume, None)
+}
+
+/// [`open`] on one of several ranks, `link` carrying the messages (`None`: one rank):
+/// every rank assembles the start and takes its part of it; rank 0 writes every
+/// output, the others step their part and write nothing.
+pub fn open_on(
+    s: &Scenario,
+    src: &Source,
+    opts: &mut RunOptions,
+    resume: Option<Resume>,
+    link: Option<Link>,
+) -> Result<DemRun, RunError> {
     let input = |e: grains_core::input::InputError| RunError::Input(format!("{}: {e}", src.origin));
+    let refused = |e: String| RunError::Input(format!("{}: {e}", src.origin));
     let out = opts.out.clone();
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
+    let dims = ranks::grid(s, link.as_ref().map_or(1, Reduce::ranks)).map_err(refused)?;
+    if link.is_some() {
+        if let Some(why) = ranks::unsupported(s, opts.stop_at_step) {
+            return Err(refused(why));
+        }
+    }
     let (mut sim, steps, dt_critical, implausible) = match &resume {
         None => {
             let a = assemble(s, &src.base).map_err(input)?;
@@ -104,6 +135,11 @@ pub fn open(
             (dem, steps, dt_critical, Vec::new())
         }
     };
+    if let Some(link) = link {
+        let part = ranks::Part::new(link, &sim.setup, &sim.state, dims).map_err(refused)?;
+        sim.ranks = Some(Box::new(part));
+    }
+    let leader = sim.ranks.as_ref().is_none_or(|p| p.rank() == 0);
     let mut plan = s.output.plan_by_steps(&CAPABILITIES, steps);
     opts.progress.announce(&format!(
         "{}{} (dem) — {} particles, dt = {:.3e} s, {} steps, {} threads → {}",
@@ -128,39 +164,54 @@ pub fn open(
         Every::Steps(k) => k,
         Every::Time(_) => 1,
     };
-    let (history, frames, counters) = recorders(
-        &out,
-        &src.text,
-        &mut sim,
-        &plan,
-        resume.as_ref().map(|r| &r.progress.counters),
-    )?;
-    let checks = CheckObserver::new(&sim, &s.checks);
     let rest = s.run.stop_kinetic_ratio.map(|ratio| {
         let hold = s.run.stop_rest_time.unwrap_or(20.0 * every as f64 * sim.dt);
         RestDetector::new(&sim, ratio, hold)
     });
-    // On a resumed run the analysis covers the new segment; `grains analyze RUN_DIR`
-    // covers every frame.
-    let dispersal = s.dispersal.as_ref().map(|d| {
-        plan.snapshots.extend(&d.times);
-        plan.snapshots.sort_by(f64::total_cmp);
-        plan.snapshots.dedup();
-        let centre = glam::DVec2::from(d.centre.unwrap_or_default());
-        DispersalObserver::new(&s.name, d, centre, s.run.duration, &out)
-    });
+    let (history, writers, counters) = if leader {
+        let (history, frames, counters) = recorders(
+            &out,
+            &src.text,
+            &mut sim,
+            &plan,
+            resume.as_ref().map(|r| &r.progress.counters),
+        )?;
+        let checks = CheckObserver::new(&sim, &s.checks);
+        // On a resumed run the analysis covers the new segment; `grains analyze RUN_DIR`
+        // covers every frame.
+        let dispersal = s.dispersal.as_ref().map(|d| {
+            plan.snapshots.extend(&d.times);
+            plan.snapshots.sort_by(f64::total_cmp);
+            plan.snapshots.dedup();
+            let centre = glam::DVec2::from(d.centre.unwrap_or_default());
+            DispersalObserver::new(&s.name, d, centre, s.run.duration, &out)
+        });
+        let writers = Writers {
+            frames,
+            snaps: Snapshots {
+                dir: out.join("plots"),
+            },
+            checks,
+            ends: Figures {
+                scenario: s.clone(),
+            },
+            dispersal,
+        };
+        (history, Some(writers), counters)
+    } else {
+        let history = HistoryRecorder::discarding(&mut sim)?;
+        // Rank 0 holds the whole state; here it was needed only to take this part.
+        sim.state = State {
+            time: sim.state.time,
+            step: sim.state.step,
+            ..Default::default()
+        };
+        (history, None, crate::driver::Counters::fresh(&plan))
+    };
     let mut watchers = Watchers {
         history,
-        frames,
-        snaps: Snapshots {
-            dir: out.join("plots"),
-        },
         rest,
-        checks,
-        ends: Figures {
-            scenario: s.clone(),
-        },
-        dispersal,
+        writers,
     };
     let mut observers = watchers.list();
     if let Some(r) = &resume {
@@ -191,6 +242,22 @@ impl Live for DemRun {
 
     fn conclude(&mut self, outcome: Outcome, threads: usize) -> Result<Finished, RunError> {
         let (sim, out) = (&self.sim, &self.out);
+        let Some(writers) = &self.watchers.writers else {
+            // Another rank than 0: its part is done, rank 0 writes.
+            let costs = Costs {
+                dt: sim.dt,
+                dt_critical: self.dt_critical,
+                threads,
+                frames: 0,
+            };
+            let sum = summary(&self.name, "dem", sim, &outcome, costs, Default::default());
+            return Ok(Finished {
+                status: outcome.status,
+                checks: sum.checks.clone(),
+                summary: sum,
+                out: out.clone(),
+            });
+        };
         plots::write_all(
             &out.join("plots"),
             &self.watchers.history.history,
@@ -203,7 +270,7 @@ impl Live for DemRun {
             dt: sim.dt,
             dt_critical: self.dt_critical,
             threads,
-            frames: self.watchers.frames.count(),
+            frames: writers.frames.count(),
         };
         let mut sum = summary(&self.name, "dem", sim, &outcome, costs, counts);
         if matches!(outcome.status, Status::Paused | Status::Interrupted) {

@@ -51,6 +51,9 @@ pub struct Scenario {
     /// grains driven outward, as xue-2019's).
     #[serde(default)]
     pub dispersal: Option<Box<crate::dispersal::DispersalSettings>>,
+    /// `[parallel]`: how a run under `mpirun` is spread over its ranks.
+    #[serde(default)]
+    pub parallel: Option<super::ranks::ParallelSpec>,
 }
 
 /// `[domain]`: box corners and periodicity.

@@ -1,0 +1,82 @@
+//! The commands that run on several ranks (`mpirun -np N grains ...`, in a build with
+//! the `mpi` feature): `run` of a 2D DEM scenario and `bench dem`. Rank 0 prints and
+//! writes; every rank exits with the same code. Other commands are refused on every
+//! rank before anything is read.
+
+use super::{input, progress, report, set_threads, Failure};
+use grains_mpi::Launch;
+use grains_sim::dem::ranks::Link;
+use grains_sim::run::{self as sim_run, RunOptions};
+use grains_sim::{bench, driver, Source};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// Why `command` (its name as typed) cannot run on the ranks of `launch`, as one line.
+pub fn refuse(launch: Launch, command: &str) -> Option<String> {
+    (launch.ranks > 1 && !matches!(command, "run" | "bench dem")).then(|| {
+        format!(
+            "`grains {command}` does not run on several ranks yet (ranks = {}; docs/parallel.md); allowed under mpirun: `grains run` (2D DEM) and `grains bench dem`, or 1 rank",
+            launch.ranks
+        )
+    })
+}
+
+/// The MPI world as the transport of a run.
+fn world() -> Result<Link, Failure> {
+    #[cfg(feature = "mpi")]
+    {
+        grains_mpi::World::init()
+            .map(|w| Link(Box::new(w)))
+            .ok_or_else(|| {
+                input("MPI cannot be initialised for this run: it was already, or the library does not offer MPI_THREAD_SERIALIZED")
+            })
+    }
+    #[cfg(not(feature = "mpi"))]
+    {
+        Err(input("this grains was built without MPI"))
+    }
+}
+
+/// `grains run SCENARIO` on every rank of `launch`.
+pub fn cmd_run(
+    launch: Launch,
+    path: Option<&Path>,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+    stop_at_step: Option<u64>,
+) -> Result<ExitCode, Failure> {
+    let Some(path) = path else {
+        return Err(input(
+            "no scenario given: the built-in demo does not run on several ranks; allowed: mpirun -np N grains run SCENARIO.toml",
+        ));
+    };
+    let src = Source::read(path).map_err(input)?;
+    let threads = set_threads(threads)?;
+    let scn = grains_sim::scenario::parse(&src).map_err(input)?;
+    let out = out.unwrap_or_else(|| driver::default_out(scn.name()));
+    driver::writable_out(&out).map_err(input)?;
+    let leader = launch.rank == 0;
+    let opts = RunOptions {
+        out,
+        threads,
+        stop_at_step,
+        // A signal reaches the ranks at different steps; a stop must be taken by all
+        // at the same one (not done yet: docs/parallel.md).
+        interrupt: None,
+        progress: if leader {
+            Box::new(progress::Bar::new())
+        } else {
+            Box::new(driver::Silent)
+        },
+    };
+    report(sim_run::run_on(&src, opts, world()?), leader)
+}
+
+/// `grains bench dem` (2D) on every rank: rank 0 prints the report.
+pub fn cmd_bench_dem(bed: bench::dem::Bed, steps: u64) -> Result<ExitCode, Failure> {
+    let link = world()?;
+    if let Some(r) = bench::dem_ranks::run_on(&bed, steps, link).map_err(input)? {
+        print!("{}", r.text());
+    }
+    Ok(ExitCode::SUCCESS)
+}

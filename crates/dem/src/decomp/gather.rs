@@ -1,0 +1,65 @@
+//! The whole state of a decomposed run on rank 0, for the outputs that read every
+//! particle (frames, plots, the end-of-run figures and checks): each rank sends its own
+//! particles with their wall springs and (partner id, spring) rows; rank 0 puts them in
+//! id order and rebuilds the list over the whole domain, which carries the springs over
+//! as a serial rebuild does.
+
+use super::words::{self, Reader};
+use super::{carried_of, install, Decomposed};
+use crate::comm::{Post, Reduce};
+use crate::particles::Particles;
+use crate::setup::Setup;
+use crate::step::State;
+
+impl<C: Reduce + Post> Decomposed<C> {
+    /// The whole state on rank 0 (`None` on the others), from this rank's part `s`:
+    /// every particle with every field, every spring, and `s`'s time, step, walls,
+    /// wall loads and build count. Every rank must call it at the same point: it is a
+    /// collective (each rank's particles are gathered, about 20 words per particle
+    /// plus 3 per spring).
+    pub fn gather_whole(&self, setup: &Setup, s: &State) -> Option<State> {
+        let p = &s.particles;
+        let nw = setup.walls.len();
+        let owned: Vec<bool> = (0..p.len()).map(|i| self.owns(i)).collect();
+        let rows = carried_of(setup, &s.contacts, p, &owned);
+        let mut out = Vec::new();
+        for i in (0..p.len()).filter(|&i| owned[i]) {
+            words::put_particle(&mut out, p, i);
+            words::put_history(&mut out, &rows[i]);
+        }
+        let all = self.comm.gather(out);
+        if self.comm.rank() != 0 {
+            return None;
+        }
+        let mut r = Reader::new(&all);
+        let mut got = Particles::default();
+        let mut histories = Vec::new();
+        while !r.done() {
+            words::get_particle(&mut r, &mut got);
+            histories.push(words::get_history(&mut r, nw));
+        }
+        // Id order, as a serial run starts: the rebuild then sorts them as it would.
+        let mut order: Vec<usize> = (0..got.len()).collect();
+        order.sort_unstable_by_key(|&k| got.id[k]);
+        let mut local = Particles::default();
+        let mut hist = Vec::new();
+        for k in order {
+            words::copy_particle(&got, k, &mut local);
+            hist.push(std::mem::take(&mut histories[k]));
+        }
+        let mut whole = State {
+            wall_loads: s.wall_loads.clone(),
+            time: s.time,
+            step: s.step,
+            walls: s.walls.clone(),
+            ..Default::default()
+        };
+        install(setup, &mut whole, local, hist);
+        let bounds = (setup.domain.lo, setup.domain.hi);
+        whole
+            .contacts
+            .rebuild_within(setup, bounds, &mut whole.particles);
+        whole.contacts.builds = s.contacts.builds;
+        Some(whole)
+    }
+}
