@@ -2,6 +2,7 @@
 //! Nothing here changes the run (contact history included).
 
 use crate::comm::{Reduce, Serial};
+use crate::law::ContactLaw;
 use crate::math::{AngVector, Components, Tangent, TangentOps, Vector, DIM};
 use crate::particles::Particles;
 use crate::setup::Setup;
@@ -158,7 +159,8 @@ fn measure_here(
                     let m = p.mass(i);
                     let v = p.vel[i];
                     e.kinetic_translational = 0.5 * m * v.length_squared();
-                    e.kinetic_rotational = 0.5 * p.omega[i].dot(p.omega[i]) / p.inv_inertia[i];
+                    e.kinetic_rotational =
+                        0.5 * TangentOps::dot(p.omega[i], p.omega[i]) / p.inv_inertia[i];
                     e.potential = -m * setup.gravity.dot(p.pos[i]);
                     e.momentum = m * v;
                     d.finite &= p.pos[i].is_finite() && v.is_finite() && p.omega[i].finite();
@@ -174,17 +176,19 @@ fn measure_here(
                     let overlap = p.radius[i] + p.radius[j] - dist;
                     if overlap > 0.0 {
                         let mj = p.material[j] as usize;
-                        e.elastic += match (&setup.granular, list.granular(e_)) {
-                            (Some(t), Some(h)) => {
-                                let (ri, rj) = (p.radius[i], p.radius[j]);
-                                let r_eff = ri * rj / (ri + rj);
-                                crate::granular::stored_energy(t.get(mi, mj), overlap, r_eff, &h)
-                            }
-                            _ => {
-                                let pp = setup.pairs.get(mi, mj);
-                                0.5 * pp.kn * overlap * overlap
-                                    + 0.5 * pp.kt * list.shear[e_].dot(list.shear[e_])
-                            }
+                        let (ri, rj) = (p.radius[i], p.radius[j]);
+                        let r_eff = ri * rj / (ri + rj);
+                        e.elastic += match &setup.granular {
+                            Some(t) => t.get(mi, mj).stored_energy(
+                                overlap,
+                                r_eff,
+                                &list.granular(e_).unwrap_or_default(),
+                            ),
+                            None => setup.pairs.get(mi, mj).stored_energy(
+                                overlap,
+                                r_eff,
+                                &list.shear[e_],
+                            ),
                         };
                         d.pair_contacts += 1;
                         let rmin = p.radius[i].min(p.radius[j]);
@@ -230,21 +234,18 @@ fn wall_terms(setup: &Setup, s: &State, i: usize, d: &mut Diagnostics) {
         let overlap = p.radius[i] - t.distance;
         if overlap > 0.0 {
             let mi = p.material[i] as usize;
-            let history = s.contacts.wall_history.get(i * nw + w);
-            d.elastic += match (&setup.granular, history) {
-                (Some(t), Some(h)) => {
-                    let wm = wall.material.map_or(mi, |m| m as usize);
-                    crate::granular::stored_energy(t.get(mi, wm), overlap, p.radius[i], h)
+            let (c, k) = (&s.contacts, i * nw + w);
+            let wm = wall.material.map_or(mi, |m| m as usize);
+            // A wall is flat: R_eff is the particle's radius.
+            let r = p.radius[i];
+            d.elastic += match &setup.granular {
+                Some(t) => {
+                    let h = c.wall_history.get(k).copied().unwrap_or_default();
+                    t.get(mi, wm).stored_energy(overlap, r, &h)
                 }
-                _ => {
-                    let pp = setup.wall_pair(w, mi);
-                    let xi = s
-                        .contacts
-                        .wall_shear
-                        .get(i * nw + w)
-                        .copied()
-                        .unwrap_or(Tangent::default());
-                    0.5 * pp.kn * overlap * overlap + xi.quad(0.5 * pp.kt)
+                None => {
+                    let xi = c.wall_shear.get(k).copied().unwrap_or_default();
+                    setup.pairs.get(mi, wm).stored_energy(overlap, r, &xi)
                 }
             };
             d.wall_contacts += 1;

@@ -3,6 +3,7 @@
 use crate::comm::{Reduce, Serial};
 use crate::contact::{PairParams, PairTable};
 use crate::domain::Image;
+use crate::law::{Contact, ContactLaw, LedgerTerms};
 use crate::ledger::{EnergyLedger, Off, On, PassTally, Tally};
 use crate::math::{self, AngVector, Components, Tangent, TangentOps, Vector, ANG, DIM, TAN};
 use crate::neighbours::ContactList;
@@ -90,30 +91,36 @@ pub fn contact_force(
     f
 }
 
-/// Where the kernel finds a pair's parameters. One material (the common case) skips the
-/// table lookup; the kernel is generic so each case compiles to its own loop.
+/// Where the kernel finds a pair's law. One material (the common case) skips the table
+/// lookup; the kernel is generic over both the lookup and the law, so each compiles to
+/// its own loop.
 pub trait PairLookup: Sync {
+    /// The contact law: one whose history is the tangential spring alone, and which
+    /// reads neither R_eff nor the relative spin (this pass gathers neither).
+    type Law: ContactLaw<History = Tangent>;
     /// Whether every pair has the same parameters, `params(0, 0)`.
     const UNIFORM: bool;
     /// Parameters of materials (a, b).
-    fn params(&self, a: u16, b: u16) -> &PairParams;
+    fn params(&self, a: u16, b: u16) -> &Self::Law;
 }
 
 /// Every pair has the same parameters.
-pub struct Uniform(pub PairParams);
+pub struct Uniform<L = PairParams>(pub L);
 
-impl PairLookup for Uniform {
+impl<L: ContactLaw<History = Tangent>> PairLookup for Uniform<L> {
+    type Law = L;
     const UNIFORM: bool = true;
     #[inline(always)]
-    fn params(&self, _: u16, _: u16) -> &PairParams {
+    fn params(&self, _: u16, _: u16) -> &L {
         &self.0
     }
 }
 
-impl PairLookup for PairTable {
+impl<L: ContactLaw<History = Tangent>> PairLookup for PairTable<L> {
+    type Law = L;
     const UNIFORM: bool = false;
     #[inline(always)]
-    fn params(&self, a: u16, b: u16) -> &PairParams {
+    fn params(&self, a: u16, b: u16) -> &L {
         self.get(a as usize, b as usize)
     }
 }
@@ -153,8 +160,12 @@ pub fn pair_contacts_on<R: Reduce + ?Sized>(
     owns: impl Fn(usize) -> bool,
 ) {
     if let Some(table) = &setup.granular {
-        // The ledger's split is the linear law's; the granular law keeps none.
         crate::granular_pass::pair_contacts(setup, table, p, list, dt);
+        if let Some(l) = ledger {
+            // The granular law does not split its dissipation (`ContactLaw::LEDGER`):
+            // a ledger set by hand reads NaN rather than wrong numbers.
+            *l = EnergyLedger::refused();
+        }
         return;
     }
     match ledger {
@@ -162,9 +173,11 @@ pub fn pair_contacts_on<R: Reduce + ?Sized>(
             dispatch::<Off>(setup, p, list, dt, &mut []);
         }
         Some(l) => {
-            let mut rows = vec![PassTally::default(); p.len()];
+            let mut rows = std::mem::take(&mut list.ledger_rows);
+            rows.resize(p.len(), PassTally::default());
             dispatch::<On>(setup, p, list, dt, &mut rows);
             let pass = crate::ledger::in_id_order(&rows, &p.id, owns, reduce, &mut list.by_id);
+            list.ledger_rows = rows;
             l.record(&pass);
         }
     }
@@ -298,13 +311,13 @@ struct Chunk<'a> {
     terms: &'a mut [PassTally],
 }
 
-/// The touching pairs of one block, one array per quantity and component.
-struct Block {
+/// The touching pairs of one block, one array per quantity and component; `W` the law.
+struct Block<W> {
     len: usize,
     entry: [u32; BLOCK],
     i: [u32; BLOCK],
     j: [u32; BLOCK],
-    params: [PairParams; BLOCK],
+    params: [W; BLOCK],
     /// Separation x_j − x_i (nearest image).
     d: [[f64; BLOCK]; DIM],
     rsum: [f64; BLOCK],
@@ -329,20 +342,18 @@ struct Block {
 /// The ledger's terms per pair of a block (with the ledger only: the pass without it
 /// keeps the block as it was).
 struct Tallies {
-    damped: [f64; BLOCK],
-    slid: [f64; BLOCK],
-    /// ½K_n δ², ½K_t ξ² after and ½K_t ξ² before the pass.
-    stored: [[f64; 3]; BLOCK],
+    terms: [LedgerTerms; BLOCK],
 }
 
-impl Block {
-    fn new() -> Box<Self> {
+impl<W: Copy> Block<W> {
+    /// A block whose parameter slots start as `seed`.
+    fn new(seed: W) -> Box<Self> {
         Box::new(Block {
             len: 0,
             entry: [0; BLOCK],
             i: [0; BLOCK],
             j: [0; BLOCK],
-            params: [PairParams::default(); BLOCK],
+            params: [seed; BLOCK],
             d: [[0.0; BLOCK]; DIM],
             rsum: [0.0; BLOCK],
             inv_msum: [0.0; BLOCK],
@@ -367,16 +378,14 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
         c.force.fill(Vector::ZERO);
         c.torque.fill(AngVector::default());
         c.terms.fill(PassTally::default());
-        let mut b = Block::new();
+        let mut b = Block::new(*self.lookup.params(0, 0));
         // The fill count lives in a register: kept in the block it would go through
         // memory on every entry, in one long dependent chain.
         let mut len = 0usize;
         let mut touched = 0usize;
         let mut tally = T::ON.then(|| {
             Box::new(Tallies {
-                damped: [0.0; BLOCK],
-                slid: [0.0; BLOCK],
-                stored: [[0.0; 3]; BLOCK],
+                terms: [LedgerTerms::default(); BLOCK],
             })
         });
         // One flat loop over the chunk's entries: a loop per row (two to five entries)
@@ -426,7 +435,7 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
     }
 
     /// Runs the contact law over the block and scatters its forces.
-    fn flush(&self, b: &mut Block, c: &mut Chunk, mut tally: Option<&mut Tallies>) {
+    fn flush(&self, b: &mut Block<L::Law>, c: &mut Chunk, mut tally: Option<&mut Tallies>) {
         self.gather(b);
         if L::UNIFORM {
             let p = *self.lookup.params(0, 0);
@@ -443,7 +452,7 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
     /// spins and masses would be fetched (from arrays other than the positions) for
     /// nothing.
     #[inline(always)]
-    fn gather(&self, b: &mut Block) {
+    fn gather(&self, b: &mut Block<L::Law>) {
         let n = b.len.min(BLOCK);
         for t in 0..n {
             let (i, j) = (b.i[t] as usize, b.j[t] as usize);
@@ -465,8 +474,8 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
     #[inline(always)]
     fn law(
         &self,
-        b: &mut Block,
-        params: impl Fn(usize) -> PairParams,
+        b: &mut Block<L::Law>,
+        params: impl Fn(usize) -> L::Law,
         mut tally: Option<&mut Tallies>,
     ) {
         // The bound lets the compiler drop index checks, which would stop vectorisation.
@@ -481,40 +490,31 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
             let inv_dist = q * b.inv_msum[t];
             let n = d * inv_dist;
             let pp = params(t);
-            let (v, spin) = (Vector::read(&b.v, t), AngVector::read(&b.spin, t));
             let xi0 = Tangent::read(&b.xi, t);
-            let f = contact_law(&pp, q * dist, n, b.rsum[t] - dist, v, spin, xi0, self.dt);
+            // The law reads neither R_eff nor the relative spin (`PairLookup::Law`).
+            let contact = Contact {
+                n,
+                overlap: b.rsum[t] - dist,
+                r_eff: 0.0,
+                m_eff: q * dist,
+                v: Vector::read(&b.v, t),
+                spin: AngVector::read(&b.spin, t),
+                w_rel: AngVector::default(),
+            };
+            let mut xi = xi0;
+            let r = pp.respond(&contact, &mut xi, self.dt);
             if let (true, Some(tl)) = (T::ON, tally.as_deref_mut()) {
-                // The law's own kinematics (see crate::ledger).
-                let vn = v.dot(n);
-                let vt = math::tangential_velocity(v, n, spin);
-                let elastic = pp.kn * (b.rsum[t] - dist);
-                // Sliding resets the spring; the tangential work less the spring's
-                // change is then friction's, the capped dashpot's share included.
-                let x0 = math::carry(xi0, n);
-                let sliding = (f.shear != x0 + vt * self.dt) as u8 as f64;
-                let x1 = f.shear;
-                let dash_t = vt.quad(pp.gamma_t * (q * dist)) * self.dt;
-                tl.damped[t] = (f.normal - elastic) * vn * self.dt + (1.0 - sliding) * dash_t;
-                let overlap = b.rsum[t] - dist;
-                tl.stored[t] = [
-                    0.5 * elastic * overlap,
-                    x1.quad(0.5 * pp.kt),
-                    x0.quad(0.5 * pp.kt),
-                ];
-                tl.slid[t] = sliding
-                    * (pp.kt * (x1.dot(vt) * self.dt - 0.5 * (x1.dot(x1) - x0.dot(x0))) + dash_t);
+                tl.terms[t] = pp.ledger_terms(&contact, &xi0, &xi, &r, self.dt);
             }
-            // Force on i: −F_n n + F_t.
-            (-f.normal * n + math::tangent_vector(f.tangential, n)).write(&mut b.f, t);
-            math::moment(f.tangential, n).write(&mut b.ft, t);
-            f.shear.write(&mut b.xi, t);
+            r.force.write(&mut b.f, t);
+            r.moment.write(&mut b.ft, t);
+            xi.write(&mut b.xi, t);
         }
     }
 
     /// Adds the block's forces (and ledger terms) to their row owners in entry order and
     /// leaves each force in its entry for the partner.
-    fn scatter(&self, b: &mut Block, c: &mut Chunk, tally: Option<&Tallies>) {
+    fn scatter(&self, b: &mut Block<L::Law>, c: &mut Chunk, tally: Option<&Tallies>) {
         let n = b.len.min(BLOCK);
         // A block holds rows in order, so the row owner's sums stay in registers until
         // the owner changes, and are carried into the next block: a row is summed entry
@@ -535,14 +535,7 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
             c.fpair[k] = fv;
             c.ftan[k] = ft;
             if let (true, Some(tl)) = (T::ON, tally) {
-                let [normal, tangential, tangential_before] = tl.stored[t];
-                b.row_terms += PassTally {
-                    damping: tl.damped[t],
-                    friction: tl.slid[t],
-                    normal,
-                    tangential,
-                    tangential_before,
-                };
+                b.row_terms += tl.terms[t];
             }
         }
         b.row = (owner, f_own, t_own);
@@ -551,7 +544,7 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
 
     /// Writes the sums of the row in progress to its owner.
     #[inline(always)]
-    fn settle(&self, b: &mut Block, c: &mut Chunk) {
+    fn settle(&self, b: &mut Block<L::Law>, c: &mut Chunk) {
         let (owner, f_own, t_own) = b.row;
         if owner != usize::MAX {
             c.force[owner - c.range.start] = f_own;

@@ -14,7 +14,7 @@
 //! rule ([`GranularParams::mixed`]) rather than that version's code, which leaves the
 //! models of an unlike pair unset.
 
-use crate::math::{self, AngVector, Components, Tangent, TangentOps, Vector, TAN};
+use crate::math::{self, AngVector, Components, Tangent, TangentOps, TAN};
 use serde::{Deserialize, Serialize};
 
 /// Normal force model.
@@ -185,38 +185,7 @@ const A_PREV: usize = TAN;
 const ROLL: usize = TAN + 1;
 const TWIST: usize = 2 * TAN + 1;
 
-/// One contact's geometry and motion.
-#[derive(Clone, Copy, Debug)]
-pub struct Contact {
-    /// Unit normal from i towards j.
-    pub n: Vector,
-    /// Overlap δ > 0.
-    pub overlap: f64,
-    /// R_i R_j / (R_i + R_j) (a flat wall: R_i).
-    pub r_eff: f64,
-    /// m_i m_j / (m_i + m_j) (a wall: m_i).
-    pub m_eff: f64,
-    /// v_i − v_j.
-    pub v: Vector,
-    /// R_i ω_i + R_j ω_j.
-    pub spin: AngVector,
-    /// ω_i − ω_j.
-    pub w_rel: AngVector,
-}
-
-/// What a contact does to its bodies.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Response {
-    /// Force on i (j gets the opposite).
-    pub force: Vector,
-    /// n × F_t: the tangential force's torque on i is (R_i − δ/2) times this, and on j
-    /// (R_j − δ/2) times it too.
-    pub moment: AngVector,
-    /// The rolling and twisting couple on i (j gets the opposite).
-    pub couple: AngVector,
-    /// The normal force F_n (positive pushes apart), damping included.
-    pub normal: f64,
-}
+pub use crate::law::{Contact, Response};
 
 /// Evaluates one contact and advances its history `h` by `dt` (when `update`; LAMMPS's
 /// set-up evaluation does not).

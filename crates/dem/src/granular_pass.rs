@@ -1,5 +1,5 @@
 //! The pair pass under the granular law ([`crate::granular`]): every listed pair that
-//! touches is evaluated with [`respond`] and its forces and torques applied, in the same
+//! touches is evaluated through [`ContactLaw::respond`] and its forces and torques applied, in the same
 //! fixed chunks as the linear law's pass ([`crate::forces`]), so the sums are the same
 //! for any thread count.
 //!
@@ -11,8 +11,9 @@
 
 use crate::contact::PairTable;
 use crate::domain::Image;
-use crate::granular::{respond, Contact, Damping, GranularParams, Normal, Tangential};
+use crate::granular::{Contact, Damping, GranularParams, Normal, Tangential};
 use crate::history::Pool;
+use crate::law::ContactLaw;
 use crate::math::{self, AngVector, Components, Tangent, TangentOps, Vector, ANG, DIM, TAN};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
@@ -160,7 +161,8 @@ struct Ctx<'a, const P: u8> {
 }
 
 impl<const P: u8> Ctx<'_, P> {
-    /// Any law, one entry at a time through [`respond`]. Returns how many entries touch.
+    /// Any law, one entry at a time through [`ContactLaw::respond`]. Returns how many
+    /// entries touch.
     fn scalar(&self, uniform: Option<&GranularParams>, c: &mut Chunk) -> usize {
         let first = c.range.start;
         let base = self.row[first] as usize;
@@ -194,7 +196,7 @@ impl<const P: u8> Ctx<'_, P> {
                     .table
                     .get(self.material[i] as usize, self.material[j] as usize),
             };
-            let r = respond(law, &contact, c.pool.take(&mut c.slot[k]), dt, dt > 0.0);
+            let r = law.respond(&contact, c.pool.take(&mut c.slot[k]), dt);
             let half = 0.5 * contact.overlap;
             c.force[i - first] += r.force;
             c.torque[i - first] += (ri - half) * r.moment + r.couple;
@@ -207,7 +209,7 @@ impl<const P: u8> Ctx<'_, P> {
 
     /// One law without rolling, twisting or rescaling for every pair: the touching
     /// entries are gathered into blocks and the law runs over each block's arrays
-    /// ([`Plain::respond`]), the same operations as [`respond`], so the same bits.
+    /// ([`Plain::respond`]), the same operations as [`crate::granular::respond`], so the same bits.
     /// Returns how many entries touch.
     fn blocked(&self, law: &Plain, c: &mut Chunk) -> usize {
         let base = self.row[c.range.start] as usize;
@@ -386,7 +388,7 @@ impl Block {
 }
 
 /// A law with a tangential spring and nothing after it (no rolling, no twisting, no
-/// `mindlin_rescale`): what [`respond`] does for it, written with selects in place of
+/// `mindlin_rescale`): what [`crate::granular::respond`] does for it, written with selects in place of
 /// branches so that a loop over contacts vectorises, in the same operations.
 #[derive(Clone, Copy, Debug)]
 struct Plain {

@@ -3,6 +3,7 @@
 
 use crate::domain::Image;
 use crate::forces::contact_force;
+use crate::law::ContactLaw;
 use crate::math::{self, AngVector, Vector};
 use crate::neighbours::{ContactList, GranularHistory};
 use crate::particles::Particles;
@@ -305,13 +306,7 @@ pub fn walls_gather_kick(
                                 w_rel: omega[k],
                             };
                             let h = &mut wh[k * nw + w];
-                            let resp = crate::granular::respond(
-                                law,
-                                &contact,
-                                h,
-                                dt_shear,
-                                dt_shear > 0.0,
-                            );
+                            let resp = law.respond(&contact, h, dt_shear);
                             let arm = r - 0.5 * contact.overlap;
                             (resp.force, arm * resp.moment + resp.couple)
                         }

@@ -26,10 +26,20 @@
 //! version of the pass compiled for it ([`Tally`]): without the ledger the pass is the
 //! code it was, and with it the forces and the state are the same bit for bit.
 
+use crate::granular::GranularParams;
+use crate::law::{ContactLaw, LedgerTerms};
 use crate::math::TangentOps;
 use crate::setup::Setup;
 use crate::step::State;
 use std::ops::AddAssign;
+
+/// A ledger asked of a law that does not split its dissipation (the granular law).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "the energy ledger is kept under the linear contact law only: the granular law \
+     (Hertz, Mindlin) does not split its dissipation"
+)]
+pub struct LedgerRefused;
 
 /// Energy the pair contacts have dissipated since the ledger was started, and what their
 /// springs hold now (J per unit thickness).
@@ -58,8 +68,13 @@ impl EnergyLedger {
         self.stored_normal + self.stored_tangential
     }
 
-    /// A ledger started on `s`: nothing dissipated yet, its springs' energy stored.
-    pub fn starting(setup: &Setup, s: &State) -> Self {
+    /// A ledger started on `s`: nothing dissipated yet, its springs' energy stored;
+    /// refused under a law that does not split its dissipation
+    /// ([`ContactLaw::LEDGER`]).
+    pub fn starting(setup: &Setup, s: &State) -> Result<Self, LedgerRefused> {
+        if setup.granular.is_some() && !GranularParams::LEDGER {
+            return Err(LedgerRefused);
+        }
         let p = &s.particles;
         let list = &s.contacts;
         let mut l = EnergyLedger::default();
@@ -77,7 +92,18 @@ impl EnergyLedger {
                 l.stored_tangential += list.shear[e].quad(0.5 * pp.kt);
             }
         }
-        l
+        Ok(l)
+    }
+
+    /// The ledger of a run under a law that keeps none: every figure NaN.
+    pub fn refused() -> Self {
+        EnergyLedger {
+            damping: f64::NAN,
+            friction: f64::NAN,
+            springs_released: f64::NAN,
+            stored_normal: f64::NAN,
+            stored_tangential: f64::NAN,
+        }
     }
 
     /// Takes in one pair pass.
@@ -90,28 +116,17 @@ impl EnergyLedger {
     }
 }
 
-/// What one pair pass adds up: per particle (its row), then over the particles in
-/// ascending id ([`in_id_order`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct PassTally {
-    /// Dashpot work.
-    pub damping: f64,
-    /// Sliding.
-    pub friction: f64,
-    /// ½K_n δ² of the touching pairs.
-    pub normal: f64,
-    /// ½K_t ξ² of the touching pairs after the pass.
-    pub tangential: f64,
-    /// ½K_t ξ² of the touching pairs before the pass.
-    pub tangential_before: f64,
-}
+/// What one pair pass adds up, the law's [`LedgerTerms`] summed per particle (its row),
+/// then over the particles in ascending id ([`in_id_order`]).
+pub(crate) type PassTally = LedgerTerms;
 
 /// The pass's total from each stored particle's row terms `rows` (its pairs with higher
 /// ids): the rows of the particles this rank `owns`, gathered from every rank through
 /// `reduce` and added in ascending id, so that each pair counts once (on the rank that
 /// owns its lower id) and the sum is the same bit for bit on any rank count. On one rank
-/// the particles are taken in the order `by_id` (indices in ascending id, remade when
-/// the particles have been re-sorted since), with nothing gathered.
+/// the particles are taken in the order `by_id` (indices in ascending id, made when it
+/// is empty or of another length: a rebuild, which re-sorts the particles, clears it),
+/// with nothing gathered.
 pub(crate) fn in_id_order<R: crate::comm::Reduce + ?Sized>(
     rows: &[PassTally],
     id: &[u32],
@@ -121,11 +136,7 @@ pub(crate) fn in_id_order<R: crate::comm::Reduce + ?Sized>(
 ) -> PassTally {
     let mut total = PassTally::default();
     if reduce.ranks() == 1 {
-        let sorted = by_id.len() == id.len()
-            && by_id
-                .windows(2)
-                .all(|w| id[w[0] as usize] < id[w[1] as usize]);
-        if !sorted {
+        if by_id.len() != id.len() {
             *by_id = (0..id.len() as u32).collect();
             by_id.sort_unstable_by_key(|&i| id[i as usize]);
         }

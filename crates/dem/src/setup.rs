@@ -34,8 +34,8 @@ pub struct Setup {
     /// The law of LAMMPS `pair granular` per material pair ([`crate::granular`]), which
     /// then replaces the linear law of `pairs` for every pair and wall; `None`: the
     /// linear law. Set through the library and by 3D scenarios. The stable time step
-    /// ([`crate::timestep`]) and the energy ledger are still the linear law's;
-    /// `diagnostics::measure` and `stress` ask this law.
+    /// ([`crate::timestep`]), `diagnostics::measure` and `stress` ask this law
+    /// ([`crate::law::ContactLaw`]); it keeps no energy ledger.
     pub granular: Option<PairTable<GranularParams>>,
 }
 

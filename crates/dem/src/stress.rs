@@ -2,36 +2,29 @@
 //! coarse-grained stress of the dispersal analysis (xue-2019 Eq. 6). Read-only: the
 //! contact forces are evaluated again from the state, springs as stored, not advanced.
 
-use crate::contact::PairParams;
-use crate::forces::contact_law;
-use crate::granular::{respond, Contact, GranularParams, WIDTH};
-use crate::math::{self, outer, AngVector, Tangent, Tensor, Vector};
+use crate::law::{Contact, ContactLaw};
+use crate::math::{self, outer, Tangent, Tensor, Vector};
+use crate::neighbours::GranularHistory;
 use crate::setup::Setup;
 use crate::step::State;
 
-/// The force on the first body of a contact under the granular law, its history as
-/// stored (a copy: nothing is advanced).
-fn granular_force(law: &GranularParams, c: &Contact, h: &[f64; WIDTH]) -> Vector {
-    let mut h = *h;
-    respond(law, c, &mut h, 0.0, false).force
-}
-
-/// The linear law's force on the first body, −F_n n + F_t, the spring as stored, and
-/// F_n.
-fn linear_force(
-    pp: &PairParams,
-    m_eff: f64,
-    n: Vector,
-    overlap: f64,
-    v: Vector,
-    spin: AngVector,
-    xi: Tangent,
+/// The force on the first body of a contact between materials `a` and `b` under the
+/// set-up's law, and F_n, the history as stored (`shear` under the linear law,
+/// `history` under the granular law; copies: nothing is advanced).
+fn force_now(
+    setup: &Setup,
+    (a, b): (usize, usize),
+    c: &Contact,
+    shear: Tangent,
+    history: Option<GranularHistory>,
 ) -> (Vector, f64) {
-    let f = contact_law(pp, m_eff, n, overlap, v, spin, xi, 0.0);
-    (
-        -f.normal * n + math::tangent_vector(f.tangential, n),
-        f.normal,
-    )
+    let r = match &setup.granular {
+        Some(t) => t
+            .get(a, b)
+            .respond(c, &mut history.unwrap_or_default(), 0.0),
+        None => setup.pairs.get(a, b).respond(c, &mut { shear }, 0.0),
+    };
+    (r.force, r.normal)
 }
 
 /// One touching pair of particles as the contact law sees it now.
@@ -88,31 +81,16 @@ pub fn each_pair_force(setup: &Setup, s: &State, mut f: impl FnMut(PairForce)) {
             let (mi, mj) = (p.material[i] as usize, p.material[j] as usize);
             let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
             let spin = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
-            let (force, push) = match (&setup.granular, list.granular(e)) {
-                (Some(t), Some(h)) => {
-                    let mut h = h;
-                    let c = Contact {
-                        n: nv,
-                        overlap,
-                        r_eff: p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]),
-                        m_eff,
-                        v: p.vel[i] - p.vel[j],
-                        spin,
-                        w_rel: p.omega[i] - p.omega[j],
-                    };
-                    let r = respond(t.get(mi, mj), &c, &mut h, 0.0, false);
-                    (r.force, r.normal)
-                }
-                _ => linear_force(
-                    setup.pairs.get(mi, mj),
-                    m_eff,
-                    nv,
-                    overlap,
-                    p.vel[i] - p.vel[j],
-                    spin,
-                    list.shear[e],
-                ),
+            let c = Contact {
+                n: nv,
+                overlap,
+                r_eff: p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]),
+                m_eff,
+                v: p.vel[i] - p.vel[j],
+                spin,
+                w_rel: p.omega[i] - p.omega[j],
             };
+            let (force, push) = force_now(setup, (mi, mj), &c, list.shear[e], list.granular(e));
             f(PairForce {
                 i,
                 j,
@@ -153,39 +131,20 @@ pub fn particle_stress(setup: &Setup, s: &State) -> Vec<Tensor> {
             if overlap <= 0.0 {
                 continue;
             }
-            let xi = list
-                .wall_shear
-                .get(i * nw + w)
-                .copied()
-                .unwrap_or(Tangent::default());
+            let k = i * nw + w;
             let mi = p.material[i] as usize;
-            let f = match (&setup.granular, list.wall_history.get(i * nw + w)) {
-                (Some(table), Some(h)) => granular_force(
-                    table.get(mi, wall.material.map_or(mi, |m| m as usize)),
-                    &Contact {
-                        n: t.normal,
-                        overlap,
-                        r_eff: p.radius[i],
-                        m_eff: p.mass(i),
-                        v: p.vel[i],
-                        spin: p.radius[i] * p.omega[i],
-                        w_rel: p.omega[i],
-                    },
-                    h,
-                ),
-                _ => {
-                    linear_force(
-                        setup.wall_pair(w, mi),
-                        p.mass(i),
-                        t.normal,
-                        overlap,
-                        p.vel[i],
-                        p.radius[i] * p.omega[i],
-                        xi,
-                    )
-                    .0
-                }
+            let wm = wall.material.map_or(mi, |m| m as usize);
+            let c = Contact {
+                n: t.normal,
+                overlap,
+                r_eff: p.radius[i],
+                m_eff: p.mass(i),
+                v: p.vel[i],
+                spin: p.radius[i] * p.omega[i],
+                w_rel: p.omega[i],
             };
+            let xi = list.wall_shear.get(k).copied().unwrap_or_default();
+            let (f, _) = force_now(setup, (mi, wm), &c, xi, list.wall_history.get(k).copied());
             sum[i] += outer((t.distance + 0.5 * overlap) * t.normal, f);
         }
     }

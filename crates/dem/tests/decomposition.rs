@@ -448,7 +448,7 @@ fn the_energy_ledger_is_the_serial_one_on_any_grid() {
     let (set, mut p) = peer::bed(600, 20);
     squeeze(&mut p, 20);
     let mut whole = State::new(&set, p);
-    whole.ledger = Some(grains_dem::EnergyLedger::starting(&set, &whole));
+    whole.ledger = Some(grains_dem::EnergyLedger::starting(&set, &whole).unwrap());
     let (dt, steps, every) = (5e-4, 1000, 250);
     let mut serial = whole.clone();
     let mut want = Vec::new();

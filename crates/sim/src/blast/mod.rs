@@ -105,8 +105,10 @@ impl Blast {
                 let coupling = Coupling::new(rp.stiffness, COUPLING_SKIN * rp.setup.skin);
                 let mut ring = Ring::new(rp.setup, rp.particles, coupling, &mut charge);
                 if s.analysis.energy_ledger {
+                    // The ring's law is the linear one (a 2D scenario has no other),
+                    // whose ledger is never refused.
                     let start = grains_dem::EnergyLedger::starting(&ring.setup, &ring.state);
-                    ring.state.ledger = Some(start);
+                    ring.state.ledger = start.ok();
                 }
                 (Some(ring), dt, rp.mean_diameter)
             }

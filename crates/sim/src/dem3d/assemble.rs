@@ -1,7 +1,7 @@
 //! A 3D scenario validated and assembled into the engine's set-up; nothing is written,
 //! so a scenario that fails leaves no output behind.
 
-use super::law::{granular_dt, resolve};
+use super::law::resolve;
 use super::pour::Pour;
 use super::scenario::{CheckSpec, Measure, RegionSpec, Scenario, SphereSource};
 use crate::dem::assemble::{lattice_values, sphere_values};
@@ -145,18 +145,8 @@ pub fn assemble(s: &Scenario, base: &std::path::Path) -> Result<Assembled, Input
         skin,
     )?;
     setup.granular = laws.granular;
-    let dt_critical = match &setup.granular {
-        None => timestep::critical_dt(&setup, &sizing),
-        Some(table) => {
-            let mut smallest: Vec<Option<(f64, f64)>> = vec![None; s.materials.len()];
-            for i in 0..sizing.len() {
-                let m = &mut smallest[sizing.material[i] as usize];
-                let here = (sizing.radius[i], sizing.mass(i));
-                *m = Some(m.map_or(here, |(r, w): (f64, f64)| (r.min(here.0), w.min(here.1))));
-            }
-            granular_dt(table, &s.materials, &smallest)
-        }
-    };
+    // The law bounds the step (`ContactLaw::stable_step`): Hertz by the Rayleigh time.
+    let dt_critical = timestep::critical_dt(&setup, &sizing);
     let dt = time_step(
         s.run.dt,
         s.run.safety,

@@ -387,34 +387,3 @@ pub fn resolve(c: &LawSpec, materials: &[Material]) -> Result<Laws, InputError> 
         restitution: PairTable::from_fn(n, |a, b| laws[a * n + b].1),
     })
 }
-
-/// The largest stable step under the granular laws: for a Hertz pair a fraction of the
-/// Rayleigh time of its smaller sphere, π r √(ρ/G) / (0.1631 ν + 0.8766) (the step
-/// every Hertz–Mindlin code takes a fraction of); for a Hooke pair the linear
-/// oscillator's 2/ω with ω² = k_n / m*. `smallest[m]`: the smallest radius and mass
-/// of material m's spheres (None: none of them).
-pub fn granular_dt(
-    table: &PairTable<GranularParams>,
-    materials: &[Material],
-    smallest: &[Option<(f64, f64)>],
-) -> f64 {
-    let mut dt = f64::INFINITY;
-    for (a, ma) in materials.iter().enumerate() {
-        let Some((r, m)) = smallest[a] else { continue };
-        for b in 0..materials.len() {
-            let p = table.get(a, b);
-            let step = match p.normal {
-                Normal::HertzMaterial => {
-                    let (e, nu) = (ma.youngs.unwrap_or(f64::NAN), ma.poisson.unwrap_or(0.0));
-                    let g = e / (2.0 * (1.0 + nu));
-                    std::f64::consts::PI * r * (ma.density / g).sqrt() / (0.1631 * nu + 0.8766)
-                }
-                Normal::Hooke => 2.0 / (p.kn / (0.5 * m)).sqrt(),
-            };
-            if step.is_finite() {
-                dt = dt.min(step);
-            }
-        }
-    }
-    dt
-}
