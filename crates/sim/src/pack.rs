@@ -107,15 +107,6 @@ fn run(
     let st = &packing.stats;
     let checks = spec_checks(&spec.checks, &fig);
     let wall = started.elapsed().as_secs_f64();
-    let mut summary = serde_json::Map::new();
-    summary.insert("name".into(), json!(spec.name));
-    summary.insert("status".into(), json!("completed"));
-    for k in crate::analyze::MAIN_FIGURES {
-        summary.insert(k.into(), fig.remove(k).unwrap_or(Value::Null));
-    }
-    summary.insert("wall_time_s".into(), json!(wall));
-    summary.insert("pack_time_s".into(), json!(seconds_pack));
-    summary.insert("threads".into(), json!(threads));
     let nominal_delta = match spec.sizes {
         grains_pack::spec::SizeSpec::Gaussian { delta, .. }
         | grains_pack::spec::SizeSpec::Uniform { delta, .. }
@@ -143,13 +134,43 @@ fn run(
     fig.insert("max_overlap_over_d0".into(), json!(st.max_overlap));
     fig.insert("deposit_time_s".into(), json!(st.seconds_deposit));
     fig.insert("swell_time_s".into(), json!(st.seconds_swell));
+    let extra = [
+        ("wall_time_s", json!(wall)),
+        ("pack_time_s", json!(seconds_pack)),
+        ("threads", json!(threads)),
+    ];
+    let summary = write_summary(out, &spec.name, &extra, fig, &checks)?;
+    Ok((checks, summary))
+}
+
+/// Writes a packing's summary.json into `out` and returns it: its `name`, its status,
+/// the main figures of `fig` ([`crate::analyze::MAIN_FIGURES`], those it has) beside
+/// `extra`, then every figure and the `checks`.
+pub(crate) fn write_summary(
+    out: &Path,
+    name: &str,
+    extra: &[(&str, Value)],
+    fig: Map<String, Value>,
+    checks: &[Check],
+) -> anyhow::Result<Map<String, Value>> {
+    let mut summary = Map::new();
+    summary.insert("name".into(), json!(name));
+    summary.insert("status".into(), json!("completed"));
+    for k in crate::analyze::MAIN_FIGURES {
+        if let Some(v) = fig.get(k) {
+            summary.insert(k.into(), v.clone());
+        }
+    }
+    for (k, v) in extra {
+        summary.insert((*k).into(), v.clone());
+    }
     summary.insert("figures".into(), Value::Object(fig));
-    summary.insert("checks".into(), serde_json::to_value(&checks)?);
+    summary.insert("checks".into(), serde_json::to_value(checks)?);
     grains_core::json::write_json_pretty(
         &out.join("summary.json"),
         &Value::Object(summary.clone()),
     )?;
-    Ok((checks, summary))
+    Ok(summary)
 }
 
 /// The spec's `[[check]]`s against the figures `fig` (a figure missing is NaN: fails).

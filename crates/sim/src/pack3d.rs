@@ -7,7 +7,7 @@ use crate::pack::{spec_checks, Packed};
 use grains_core::atomic::write_atomic;
 use grains_pack::sphere_spec::{packing_text, SphereSpec};
 use grains_pack::spheres::{jam, Container};
-use serde_json::{json, Map, Value};
+use serde_json::{json, Map};
 use std::path::Path;
 use std::time::Instant;
 
@@ -105,22 +105,11 @@ pub fn pack(p: &Prepared, out: &Path) -> anyhow::Result<Packed> {
     }
     fig.insert("minimisations".into(), json!(packing.minimisations));
     let checks = spec_checks(&s.checks, &fig);
-    let mut summary = Map::new();
-    summary.insert("name".into(), json!(s.name));
-    summary.insert("status".into(), json!("completed"));
-    summary.insert("dimensions".into(), json!(3));
-    for k in crate::analyze::MAIN_FIGURES {
-        if let Some(v) = fig.get(k) {
-            summary.insert(k.into(), v.clone());
-        }
-    }
-    summary.insert("wall_time_s".into(), json!(started.elapsed().as_secs_f64()));
-    summary.insert("figures".into(), Value::Object(fig));
-    summary.insert("checks".into(), serde_json::to_value(&checks)?);
-    grains_core::json::write_json_pretty(
-        &out.join("summary.json"),
-        &Value::Object(summary.clone()),
-    )?;
+    let extra = [
+        ("dimensions", json!(3)),
+        ("wall_time_s", json!(started.elapsed().as_secs_f64())),
+    ];
+    let summary = crate::pack::write_summary(out, &s.name, &extra, fig, &checks)?;
     Ok(Packed {
         checks,
         summary,
