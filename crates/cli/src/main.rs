@@ -221,6 +221,11 @@ fn main() -> ExitCode {
             dir,
             threads,
             stop_at_step,
+        } if launch.ranks > 1 => ranks::cmd_resume(launch, &dir, threads, stop_at_step),
+        Command::Resume {
+            dir,
+            threads,
+            stop_at_step,
         } => cmd_resume(&dir, threads, stop_at_step),
         Command::Check {
             scenario,

@@ -13,9 +13,9 @@ use std::process::ExitCode;
 
 /// Why `command` (its name as typed) cannot run on the ranks of `launch`, as one line.
 pub fn refuse(launch: Launch, command: &str) -> Option<String> {
-    (launch.ranks > 1 && !matches!(command, "run" | "bench dem")).then(|| {
+    (launch.ranks > 1 && !matches!(command, "run" | "resume" | "bench dem")).then(|| {
         format!(
-            "`grains {command}` does not run on several ranks yet (ranks = {}; docs/parallel.md); allowed under mpirun: `grains run` (2D DEM) and `grains bench dem`, or 1 rank",
+            "`grains {command}` does not run on several ranks yet (ranks = {}; docs/parallel.md); allowed under mpirun: `grains run` and `grains resume` (2D DEM) and `grains bench dem`, or 1 rank",
             launch.ranks
         )
     })
@@ -56,7 +56,32 @@ pub fn cmd_run(
     let out = out.unwrap_or_else(|| driver::default_out(scn.name()));
     driver::writable_out(&out).map_err(input)?;
     let leader = launch.rank == 0;
-    let opts = RunOptions {
+    let opts = options(leader, out, threads, stop_at_step);
+    report(sim_run::run_on(&src, opts, world()?), leader)
+}
+
+/// `grains resume DIR` on every rank of `launch`: each reads the checkpoint, whatever
+/// rank count wrote it, and takes its box.
+pub fn cmd_resume(
+    launch: Launch,
+    dir: &Path,
+    threads: Option<usize>,
+    stop_at_step: Option<u64>,
+) -> Result<ExitCode, Failure> {
+    let threads = set_threads(threads)?;
+    let leader = launch.rank == 0;
+    let opts = options(leader, dir.to_path_buf(), threads, stop_at_step);
+    report(sim_run::resume_on(dir, opts, world()?), leader)
+}
+
+/// The options of a run on one of several ranks: rank 0 shows the progress.
+fn options(
+    leader: bool,
+    out: PathBuf,
+    threads: usize,
+    stop_at_step: Option<u64>,
+) -> RunOptions<'static> {
+    RunOptions {
         out,
         threads,
         stop_at_step,
@@ -68,8 +93,7 @@ pub fn cmd_run(
         } else {
             Box::new(driver::Silent)
         },
-    };
-    report(sim_run::run_on(&src, opts, world()?), leader)
+    }
 }
 
 /// `grains bench dem` (2D) on every rank: rank 0 prints the report.

@@ -72,9 +72,9 @@ pub trait Simulation: Send {
     fn checkpoint(&self) -> Option<Vec<u8>> {
         None
     }
-    /// Makes the whole state readable by the observers, before a frame and at the end:
-    /// a run spread over ranks gathers it on rank 0 there (so every rank calls this at
-    /// the same steps), not at every step.
+    /// Makes the whole state readable by the observers, before a frame, a checkpoint
+    /// and at the end: a run spread over ranks gathers it on rank 0 there (so every rank
+    /// calls this at the same steps), not at every step.
     fn gather(&mut self) {}
 }
 
@@ -445,7 +445,8 @@ impl Stepper {
             counters.snapshots_done += 1;
             snapped = true;
         }
-        if snapped || regular {
+        let gathered = snapped || regular;
+        if gathered {
             sim.gather();
         }
         // A snapshot on a step the schedule also wants is one frame, not the same
@@ -462,6 +463,11 @@ impl Stepper {
             .checkpoint_every
             .is_some_and(|k| c.step.is_multiple_of(k.max(1)));
         if pause || signal || periodic {
+            // A checkpoint holds the whole state, which a run spread over ranks has
+            // only once gathered (every rank stops here at the same step).
+            if !gathered {
+                sim.gather();
+            }
             self.checkpoint(sim, observers, control)?;
             if signal {
                 return Ok(Some(Status::Interrupted));

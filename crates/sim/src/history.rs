@@ -30,12 +30,17 @@ impl HistoryRecorder {
         Self::first_row(open(&out.join("history.csv"), sim)?, sim)
     }
 
-    /// A history written nowhere (a rank other than 0 of a run spread over ranks),
-    /// with the first row measured now, as [`HistoryRecorder::create`] measures it: a
-    /// sample there is taken by every rank together.
-    pub fn discarding<S: Recorded>(sim: &mut S) -> anyhow::Result<Self> {
+    /// A history written nowhere (a rank other than 0 of a run spread over ranks).
+    /// A `fresh` run's first row is measured now, as [`HistoryRecorder::create`]
+    /// measures it, a resumed run's not, as [`HistoryRecorder::reopen`]: a sample there
+    /// is taken by every rank together.
+    pub fn discarding<S: Recorded>(sim: &mut S, fresh: bool) -> anyhow::Result<Self> {
         let null = if cfg!(windows) { "NUL" } else { "/dev/null" };
-        Self::first_row(open(Path::new(null), sim)?, sim)
+        let history = open(Path::new(null), sim)?;
+        match fresh {
+            true => Self::first_row(history, sim),
+            false => Ok(HistoryRecorder { history }),
+        }
     }
 
     fn first_row<S: Recorded>(mut history: History, sim: &mut S) -> anyhow::Result<Self> {

@@ -163,26 +163,8 @@ pub fn open(src: &Source, opts: &mut RunOptions) -> Result<AnyRun, RunError> {
 /// Prepares the continuation of the run in `dir` from its checkpoint (`opts.out`
 /// becomes `dir`); also returns the scenario as the run reads it.
 pub fn open_resumed(dir: &Path, opts: &mut RunOptions) -> Result<(AnyRun, Source), RunError> {
-    let src = Source::read(&dir.join("scenario.toml")).map_err(|e| {
-        RunError::Input(format!(
-            "{e} (is {} a grains run directory?)",
-            dir.display()
-        ))
-    })?;
-    if let Ok(text) = std::fs::read_to_string(dir.join("summary.json")) {
-        let status = serde_json::from_str::<serde_json::Value>(&text)
-            .ok()
-            .and_then(|v| v["status"].as_str().map(String::from));
-        if let Some(s @ ("completed" | "at_rest")) = status.as_deref() {
-            return Err(RunError::Input(format!(
-                "{}: this run already finished (summary.status = \"{s}\"); there is nothing to resume. Run it again with `grains run` to start over",
-                dir.display()
-            )));
-        }
-    }
-    opts.out = dir.to_path_buf();
-    crate::checkpoint::remove_stale_temps(dir);
-    match scenario::parse(&src).map_err(RunError::Input)? {
+    let (scn, src) = resumable(dir, opts, true)?;
+    match scn {
         Scenario::Dem(s) => {
             let saved = dem::run::load_checkpoint(&s, &src, dir)?;
             let src = from_base(src, saved.base());
@@ -207,6 +189,67 @@ pub fn open_resumed(dir: &Path, opts: &mut RunOptions) -> Result<(AnyRun, Source
             other.engine()
         ))),
     }
+}
+
+/// Continues the run in `dir` from its checkpoint as one rank of several (`mpirun -np
+/// N grains resume`), `link` carrying the messages: every rank reads the checkpoint
+/// (written by any number of ranks) and takes its box of it; rank 0 writes every
+/// output. 2D DEM runs only; anything else is refused with one line, on every rank.
+pub fn resume_on(
+    dir: &Path,
+    mut opts: RunOptions,
+    link: dem::ranks::Link,
+) -> Result<Finished, RunError> {
+    use grains_dem::Reduce;
+    // One rank clears what an earlier write left: the others must not race it.
+    let (scn, src) = resumable(dir, &mut opts, link.rank() == 0)?;
+    let Scenario::Dem(s) = scn else {
+        return Err(RunError::Input(format!(
+            "{}: resume on several ranks is supported for 2D DEM runs, this one is {}; allowed: 1 rank",
+            dir.display(),
+            match scn {
+                Scenario::Dem3(_) => "dim = 3".to_string(),
+                other => format!("engine = \"{}\"", other.engine()),
+            }
+        )));
+    };
+    let saved = dem::run::load_checkpoint(&s, &src, dir)?;
+    let src = from_base(src, saved.base());
+    let mut live = dem::run::open_on(&s, &src, &mut opts, Some(saved), Some(link))?;
+    run_live(&mut live, &mut opts, &src)
+}
+
+/// The scenario of the run directory `dir`, parsed, unless the run there already
+/// finished; `opts.out` becomes `dir`, and with `clean` what a checkpoint write cut
+/// short left there is removed.
+fn resumable(
+    dir: &Path,
+    opts: &mut RunOptions,
+    clean: bool,
+) -> Result<(Scenario, Source), RunError> {
+    let src = Source::read(&dir.join("scenario.toml")).map_err(|e| {
+        RunError::Input(format!(
+            "{e} (is {} a grains run directory?)",
+            dir.display()
+        ))
+    })?;
+    if let Ok(text) = std::fs::read_to_string(dir.join("summary.json")) {
+        let status = serde_json::from_str::<serde_json::Value>(&text)
+            .ok()
+            .and_then(|v| v["status"].as_str().map(String::from));
+        if let Some(s @ ("completed" | "at_rest")) = status.as_deref() {
+            return Err(RunError::Input(format!(
+                "{}: this run already finished (summary.status = \"{s}\"); there is nothing to resume. Run it again with `grains run` to start over",
+                dir.display()
+            )));
+        }
+    }
+    opts.out = dir.to_path_buf();
+    if clean {
+        crate::checkpoint::remove_stale_temps(dir);
+    }
+    let scn = scenario::parse(&src).map_err(RunError::Input)?;
+    Ok((scn, src))
 }
 
 /// The scenario copy of a run directory, its relative paths read from where the

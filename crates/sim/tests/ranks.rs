@@ -18,6 +18,14 @@ fn example(name: &str) -> Source {
 
 /// Runs `src` on `n` in-process ranks (one thread each) into `out`.
 fn on_ranks(src: &Source, n: usize, out: &Path) -> Vec<Result<Finished, String>> {
+    on_ranks_with(n, |l| run::run_on(src, RunOptions::new(out), l))
+}
+
+/// `go` on `n` in-process ranks (one thread each), each with its link.
+fn on_ranks_with(
+    n: usize,
+    go: impl Fn(Link) -> Result<Finished, run::RunError> + Sync,
+) -> Vec<Result<Finished, String>> {
     run_ranks(n, |l| {
         // Each rank its own pool, as each MPI process has: a rank blocked on a message
         // must not hold a worker another rank needs.
@@ -25,22 +33,24 @@ fn on_ranks(src: &Source, n: usize, out: &Path) -> Vec<Result<Finished, String>>
             .num_threads(1)
             .build()
             .unwrap();
-        pool.install(|| {
-            run::run_on(src, RunOptions::new(out), Link(Box::new(l))).map_err(|e| e.to_string())
-        })
+        pool.install(|| go(Link(Box::new(l))).map_err(|e| e.to_string()))
     })
 }
 
+/// Every file under `dir`, by its path from `dir`.
 fn files(dir: &Path) -> Vec<PathBuf> {
-    let mut all = Vec::new();
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            all.extend(files(&p));
-        } else {
-            all.push(p.strip_prefix(dir).unwrap().to_path_buf());
+    fn walk(top: &Path, dir: &Path, all: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                walk(top, &p, all);
+            } else {
+                all.push(p.strip_prefix(top).unwrap().to_path_buf());
+            }
         }
     }
+    let mut all = Vec::new();
+    walk(dir, dir, &mut all);
     all.sort();
     all
 }
@@ -48,11 +58,14 @@ fn files(dir: &Path) -> Vec<PathBuf> {
 /// The energy columns of a history (the wall loads are summed per rank, equal to
 /// rounding only: docs/parallel.md).
 fn energies(dir: &Path) -> Vec<Vec<String>> {
+    columns_but(dir, |c| c.starts_with("floor"))
+}
+
+/// The history's columns but those `skip` names, as written.
+fn columns_but(dir: &Path, skip: impl Fn(&str) -> bool) -> Vec<Vec<String>> {
     let text = std::fs::read_to_string(dir.join("history.csv")).unwrap();
     let head: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-    let keep: Vec<usize> = (0..head.len())
-        .filter(|&k| !head[k].starts_with("floor"))
-        .collect();
+    let keep: Vec<usize> = (0..head.len()).filter(|&k| !skip(head[k])).collect();
     text.lines()
         .map(|l| {
             let v: Vec<&str> = l.split(',').collect();
@@ -131,4 +144,137 @@ fn what_ranks_cannot_run_is_refused_on_every_rank() {
         e.to_string().contains("makes 2 ranks, but the run has 1"),
         "{e}"
     );
+}
+
+/// Every rank's result, unwrapped; all with the state hash `want`.
+fn hashed(done: Vec<Result<Finished, String>>, want: &str, what: &str) -> Finished {
+    let mut all = done.into_iter().enumerate().map(|(r, d)| {
+        let d = d.unwrap_or_else(|e| panic!("{what}, rank {r}: {e}"));
+        assert_eq!(d.summary.state_hash, want, "{what}, rank {r}");
+        d
+    });
+    let leader = all.next().unwrap();
+    all.for_each(drop);
+    leader
+}
+
+/// What a checkpoint in `dir` holds of the state, apart from the wall loads (summed per
+/// rank) and the build positions (taken where the writing run's list was built): every
+/// particle field in storage order and the list's rows, partners and springs.
+fn saved(dir: &Path, src: &Source) -> Vec<u64> {
+    let file = dir.join("checkpoint.bin");
+    let (_, bytes) = grains_sim::checkpoint::load(&file, &src.text).unwrap();
+    let s = grains_dem::checkpoint::read(&mut bytes.as_slice(), 1 << 20).unwrap();
+    let (p, c) = (&s.particles, &s.contacts);
+    let mut w: Vec<u64> = p.id.iter().map(|&i| i as u64).collect();
+    for v in [&p.pos, &p.vel, &p.force] {
+        w.extend(v.iter().flat_map(|x| [x.x.to_bits(), x.y.to_bits()]));
+    }
+    for v in [&p.omega, &p.torque] {
+        w.extend(v.iter().map(|x| x.to_bits()));
+    }
+    w.extend(c.row.iter().chain(&c.nbr).map(|&i| i as u64));
+    w.extend(c.shear.iter().map(|x| x.to_bits()));
+    w.extend(c.wall_shear.iter().map(|x| x.to_bits()));
+    w.push(s.step);
+    w.push(s.time.to_bits());
+    w
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    for f in files(from) {
+        std::fs::create_dir_all(to.join(&f).parent().unwrap()).unwrap();
+        std::fs::copy(from.join(&f), to.join(&f)).unwrap();
+    }
+}
+
+/// The history without what a restart on another rank count may change: the wall loads
+/// (summed per rank) and the neighbour builds (the resumed run's list starts at the
+/// checkpoint, so it is rebuilt at other steps; the forces do not depend on when).
+fn restart_invariant(dir: &Path) -> Vec<Vec<String>> {
+    columns_but(dir, |c| c.starts_with("floor") || c == "neighbour_builds")
+}
+
+/// A run stopped with a checkpoint on one rank count and resumed on another ends as the
+/// straight serial run: the same state hash on every rank, the same history figures.
+#[test]
+fn a_checkpoint_resumes_on_any_rank_count_as_the_straight_run() {
+    let src = example("ranks_column.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let at = |name: &str| dir.path().join(name);
+    let straight = run::run(&src, RunOptions::new(at("straight"))).unwrap();
+    let want = straight.summary.state_hash.clone();
+    let stop = straight.summary.steps / 2 + 7;
+    let paused = |n: usize, out: &Path| {
+        let mut opts = RunOptions::new(out);
+        opts.stop_at_step = Some(stop);
+        if n == 1 {
+            return run::run(&src, opts).map(|d| d.status.name());
+        }
+        let done = on_ranks_with(n, |l| {
+            let mut opts = RunOptions::new(out);
+            opts.stop_at_step = Some(stop);
+            run::run_on(&src, opts, l)
+        });
+        let names: Vec<_> = done.into_iter().map(|d| d.unwrap().status.name()).collect();
+        assert!(names.iter().all(|&s| s == names[0]), "{names:?}");
+        Ok(names[0])
+    };
+    let check = |out: &Path, d: &Finished, what: &str| {
+        assert_eq!(d.summary.state_hash, want, "{what}");
+        assert_eq!(d.status, straight.status, "{what}");
+        assert_eq!(d.summary.figures, straight.summary.figures, "{what}");
+        assert_eq!(
+            restart_invariant(out),
+            restart_invariant(&at("straight")),
+            "{what}"
+        );
+    };
+    // On 2 ranks, every rank with the straight run's hash.
+    let on_2 = |name: &str, what: &str| {
+        let d = at(name);
+        let done = on_ranks_with(2, |l| run::resume_on(&d, RunOptions::new(&d), l));
+        check(&d, &hashed(done, &want, what), what);
+    };
+    // Checkpointed on 4 ranks: resumed on 2, and on 1 (the serial resume).
+    assert_eq!(paused(4, &at("four")).unwrap(), "paused");
+    let written_by_4 = saved(&at("four"), &src);
+    copy_dir(&at("four"), &at("four_on_1"));
+    on_2("four", "4 ranks, resumed on 2");
+    let on1 = run::resume(&at("four_on_1"), RunOptions::new(at("four_on_1"))).unwrap();
+    check(&at("four_on_1"), &on1, "4 ranks, resumed on 1");
+    // The checkpoint file does not depend on the rank count that wrote it.
+    assert_eq!(paused(2, &at("two")).unwrap(), "paused");
+    assert!(
+        saved(&at("two"), &src) == written_by_4,
+        "the checkpoints of 2 and 4 ranks differ"
+    );
+    // A serial checkpoint resumed on 2 ranks.
+    assert_eq!(paused(1, &at("one")).unwrap(), "paused");
+    on_2("one", "1 rank, resumed on 2");
+}
+
+/// A checkpoint beside another scenario than the one it was written for is refused on
+/// every rank with one line.
+#[test]
+fn a_checkpoint_of_another_scenario_is_refused_on_every_rank() {
+    let src = example("ranks_column.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let mut opts = RunOptions::new(&out);
+    opts.stop_at_step = Some(20);
+    assert_eq!(run::run(&src, opts).unwrap().status.name(), "paused");
+    let copy = out.join("scenario.toml");
+    let text = std::fs::read_to_string(&copy).unwrap();
+    std::fs::write(&copy, text.replace("speed = 0.05", "speed = 0.06")).unwrap();
+    for (r, got) in on_ranks_with(2, |l| run::resume_on(&out, RunOptions::new(&out), l))
+        .into_iter()
+        .enumerate()
+    {
+        let e = got.err().unwrap_or_else(|| panic!("rank {r}: resumed"));
+        assert!(
+            e.contains("belongs to a different scenario") && !e.contains('\n'),
+            "rank {r}: {e}"
+        );
+    }
 }

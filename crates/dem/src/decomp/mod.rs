@@ -141,6 +141,8 @@ impl<C: Reduce + Post> Decomposed<C> {
         }
         let mut s = State {
             wall_loads: whole.wall_loads.clone(),
+            // The walls' poses, which a checkpoint (written from the gathered state) holds.
+            walls: whole.walls.clone(),
             ledger: whole.ledger,
             time: whole.time,
             step: whole.step,

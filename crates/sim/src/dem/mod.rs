@@ -167,8 +167,10 @@ impl Simulation for Dem {
     }
 
     fn checkpoint(&self) -> Option<Vec<u8>> {
-        // Not written under mpirun yet (refused up front: docs/parallel.md).
-        if self.ranks.is_some() {
+        // On several ranks, rank 0 writes the whole state it has just gathered (in id
+        // order, the list rebuilt over the whole domain), so the file is the same on any
+        // rank count; the others write nothing.
+        if self.ranks.as_ref().is_some_and(|p| p.rank() != 0) {
             return None;
         }
         let mut bytes = Vec::with_capacity(200 * self.state.particles.len());

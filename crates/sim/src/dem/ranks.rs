@@ -49,26 +49,14 @@ pub fn grid(s: &Scenario, ranks: usize) -> Result<Option<[usize; 2]>, String> {
 }
 
 /// Why `s` cannot run on several ranks yet, as one line naming what is not supported;
-/// `None` when it can. The engine's own refusals (the granular law, an expanding
-/// neighbour frame) come from [`Decomposed::new`].
-pub fn unsupported(s: &Scenario, stop_at_step: Option<u64>) -> Option<String> {
+/// `None` when it can. The engine's own refusal (an expanding neighbour frame) comes
+/// from [`Decomposed::new`].
+pub fn unsupported(s: &Scenario) -> Option<String> {
     let not = |what: String, allowed: &str| {
         Some(format!(
             "{what} is not supported on several ranks yet (docs/parallel.md); allowed: {allowed}"
         ))
     };
-    if stop_at_step.is_some() {
-        return not(
-            "--stop-at-step (checkpoints under mpirun)".into(),
-            "no --stop-at-step, or 1 rank",
-        );
-    }
-    if let Some(k) = s.output.checkpoint_every {
-        return not(
-            format!("output.checkpoint_every = {k} (checkpoints under mpirun)"),
-            "no output.checkpoint_every, or 1 rank",
-        );
-    }
     if s.dispersal.is_some() {
         return not("[dispersal]".into(), "no [dispersal] table, or 1 rank");
     }

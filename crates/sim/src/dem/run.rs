@@ -111,7 +111,7 @@ pub fn open_on(
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
     let dims = ranks::grid(s, link.as_ref().map_or(1, Reduce::ranks)).map_err(refused)?;
     if link.is_some() {
-        if let Some(why) = ranks::unsupported(s, opts.stop_at_step) {
+        if let Some(why) = ranks::unsupported(s) {
             return Err(refused(why));
         }
     }
@@ -199,14 +199,19 @@ pub fn open_on(
         };
         (history, Some(writers), counters)
     } else {
-        let history = HistoryRecorder::discarding(&mut sim)?;
+        let history = HistoryRecorder::discarding(&mut sim, resume.is_none())?;
         // Rank 0 holds the whole state; here it was needed only to take this part.
         sim.state = State {
             time: sim.state.time,
             step: sim.state.step,
             ..Default::default()
         };
-        (history, None, crate::driver::Counters::fresh(&plan))
+        // Every rank keeps the loop's counters: they say when all gather together.
+        let counters = match &resume {
+            Some(r) => r.progress.counters.clone(),
+            None => crate::driver::Counters::fresh(&plan),
+        };
+        (history, None, counters)
     };
     let mut watchers = Watchers {
         history,
