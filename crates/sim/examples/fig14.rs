@@ -16,10 +16,25 @@ use std::path::PathBuf;
 /// One run's curves.
 struct Curves {
     label: String,
+    /// How the run told its band apart, as its plots' titles say it.
+    rule: String,
     t_us: Vec<f64>,
     band: Vec<f64>,
     spall: Vec<f64>,
     fraction: Vec<f64>,
+}
+
+/// The band rule of the run whose scenario is `path` (its `[analysis]`, or the defaults).
+fn rule_of(path: &std::path::Path) -> anyhow::Result<String> {
+    let text =
+        std::fs::read_to_string(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let scn: grains_sim::blast::scenario::Scenario =
+        toml::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let a = scn.analysis;
+    Ok(grains_sim::blast::plots::band_rule(
+        a.band_fraction,
+        a.radial_bin,
+    ))
 }
 
 fn main() -> anyhow::Result<()> {
@@ -43,6 +58,7 @@ fn main() -> anyhow::Result<()> {
             Ok(rows.iter().map(|r| r[j]).collect())
         };
         all.push(Curves {
+            rule: rule_of(&PathBuf::from(dir).join("scenario.toml"))?,
             label: label.to_string(),
             t_us: col("time")?.iter().map(|t| t * 1e6).collect(),
             band: col("band_velocity")?,
@@ -54,8 +70,8 @@ fn main() -> anyhow::Result<()> {
         .iter()
         .map(|c| {
             (
-                format!("{}: band and spall velocity", c.label),
-                format!("{}: band fraction", c.label),
+                format!("{}: band and spall velocity ({})", c.label, c.rule),
+                format!("{}: band fraction ({})", c.label, c.rule),
             )
         })
         .collect();

@@ -7,6 +7,13 @@ use grains_core::plot::{LinePlot, Series};
 use grains_fem::diagnostics::ArrivalBin;
 use std::path::Path;
 
+/// The band's rule as a title says it: the packing-fraction threshold and the radial
+/// bin, since the band fraction read under two rules differs by far more than the runs
+/// compared (VALIDATION.md, "Band fraction of test 1").
+pub fn band_rule(band_fraction: f64, radial_bin: f64) -> String {
+    format!("φ ≥ {band_fraction:.2} on {radial_bin} d0 bins")
+}
+
 fn plot(
     dir: &Path,
     file: &str,
@@ -32,13 +39,15 @@ fn plot(
 }
 
 /// Writes every plot of the run into `dir`. `levels` are velocities drawn as flat
-/// lines on the velocity plot (the paper's band velocity, the ring models), by legend.
+/// lines on the velocity plot (the paper's band velocity, the ring models), by legend;
+/// `band_rule` says how the band was told apart (its [`band_rule`]), in the titles.
 pub fn write_all(
     dir: &Path,
     h: &History,
     ring: bool,
     arrival: &[ArrivalBin],
     levels: &[(&str, f64)],
+    band_rule: &str,
 ) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir)?;
     let col = |name: &str| h.column(name).unwrap_or_default();
@@ -96,7 +105,7 @@ pub fn write_all(
         plot(
             dir,
             "velocities.png",
-            "Mean radial velocity (cf. xue-2019 Fig. 14)",
+            &format!("Mean radial velocity (cf. xue-2019 Fig. 14); band: {band_rule}"),
             x,
             "velocity (m/s)",
             &v,
@@ -105,7 +114,7 @@ pub fn write_all(
         plot(
             dir,
             "band_fraction.png",
-            "Particles in the compact band (cf. xue-2019 Fig. 14)",
+            &format!("Particles in the compact band, {band_rule} (cf. xue-2019 Fig. 14)"),
             x,
             "N_band / N",
             &[("band fraction", col("band_fraction"))],

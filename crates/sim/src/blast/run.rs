@@ -352,6 +352,7 @@ impl Live for BlastRun {
             sim.ring.is_some(),
             &arrival,
             &levels,
+            &plots::band_rule(s.analysis.band_fraction, s.analysis.radial_bin),
         )?;
         ledger::plot(&out.join("plots"), &history.history)?;
         let mut counts = serde_json::Map::new();
