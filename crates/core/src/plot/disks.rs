@@ -12,8 +12,12 @@ use super::ticks::{axis_range, extent, format_linear, plottable};
 use super::{PlotError, FONT};
 use crate::atomic::write_atomic_via_path;
 
-/// Image size; square-ish because packings usually are.
+/// Largest image size; square-ish because packings usually are.
 const SIZE: (u32, u32) = (1200, 1000);
+/// The least image height, for flat content (a heap, a layer).
+const MIN_HEIGHT: u32 = 520;
+/// Height the title takes (its font at 28 px and padding).
+const TITLE: u32 = 50;
 /// Width reserved at the right for the colour bar.
 const BAR_AREA: u32 = 190;
 const MARGIN: u32 = 20;
@@ -115,7 +119,8 @@ impl ParticleMap<'_> {
             .collect();
         write_atomic_via_path(path, |tmp| {
             super::register_font();
-            let root = BitMapBackend::new(tmp, SIZE).into_drawing_area();
+            let size = image_size(content_ranges(&disks, &outlines));
+            let root = BitMapBackend::new(tmp, size).into_drawing_area();
             root.fill(&WHITE)?;
             let root = root.titled(self.title, (FONT, 28))?;
             let (w, _) = root.dim_in_pixel();
@@ -156,14 +161,12 @@ pub fn scatter_disks_png(
     .write_png(path)
 }
 
-/// Axis ranges covering all disks, widened along the shorter direction so
-/// one data unit is the same number of pixels on both axes.
+/// The ranges the disks and the outline points near them cover, before any widening.
 /// The outline points that lie within twice the disks' span of them are covered too: a
 /// box's walls are in view, a 'floor' a kilometre long is not.
-fn equal_ranges(
+fn content_ranges(
     disks: &[(DVec2, f64, f64)],
     outlines: &[Vec<(f64, f64)>],
-    plot_px: (u32, u32),
 ) -> ((f64, f64), (f64, f64)) {
     let ex = extent(disks.iter().flat_map(|d| [d.0.x - d.1, d.0.x + d.1]));
     let ey = extent(disks.iter().flat_map(|d| [d.0.y - d.1, d.0.y + d.1]));
@@ -181,7 +184,7 @@ fn equal_ranges(
         }
         _ => Vec::new(),
     };
-    let (x0, x1) = axis_range(
+    let x = axis_range(
         extent(
             disks
                 .iter()
@@ -190,7 +193,7 @@ fn equal_ranges(
         ),
         0.02,
     );
-    let (y0, y1) = axis_range(
+    let y = axis_range(
         extent(
             disks
                 .iter()
@@ -199,6 +202,30 @@ fn equal_ranges(
         ),
         0.02,
     );
+    (x, y)
+}
+
+/// The image size for content spanning `ranges` at equal scaling: the full width, and a
+/// height that follows the content's aspect between [`MIN_HEIGHT`] and [`SIZE`]'s, so
+/// that a flat heap or a thin layer is not drawn in a square of white.
+fn image_size(((x0, x1), (y0, y1)): ((f64, f64), (f64, f64))) -> (u32, u32) {
+    let map_w = (SIZE.0 - BAR_AREA - 2 * MARGIN - Y_LABELS) as f64;
+    let frame = (TITLE + 2 * MARGIN + X_LABELS) as f64;
+    let want = frame + map_w * (y1 - y0) / (x1 - x0);
+    let h = if want.is_finite() {
+        want.clamp(MIN_HEIGHT as f64, SIZE.1 as f64)
+    } else {
+        SIZE.1 as f64
+    };
+    (SIZE.0, h.round() as u32)
+}
+
+/// Axis ranges covering `content`, widened along the shorter direction so one data
+/// unit is the same number of pixels on both axes.
+fn equal_ranges(
+    ((x0, x1), (y0, y1)): ((f64, f64), (f64, f64)),
+    plot_px: (u32, u32),
+) -> ((f64, f64), (f64, f64)) {
     let (pw, ph) = (plot_px.0.max(1) as f64, plot_px.1.max(1) as f64);
     // Units per pixel each axis would need; the larger one wins.
     let upp = ((x1 - x0) / pw).max((y1 - y0) / ph);
@@ -220,7 +247,7 @@ fn draw_map(
         w.saturating_sub(2 * MARGIN + Y_LABELS),
         h.saturating_sub(2 * MARGIN + X_LABELS),
     );
-    let ((x0, x1), (y0, y1)) = equal_ranges(disks, outlines, plot_px);
+    let ((x0, x1), (y0, y1)) = equal_ranges(content_ranges(disks, outlines), plot_px);
     let mut chart = ChartBuilder::on(area)
         .margin(MARGIN)
         .x_label_area_size(X_LABELS)
@@ -340,11 +367,22 @@ mod tests {
     #[test]
     fn equal_scaling() {
         let disks = [(DVec2::ZERO, 1.0, 0.0), (DVec2::new(10.0, 0.0), 1.0, 0.0)];
-        let ((x0, x1), (y0, y1)) = equal_ranges(&disks, &[], (800, 400));
+        let ((x0, x1), (y0, y1)) = equal_ranges(content_ranges(&disks, &[]), (800, 400));
         let ux = (x1 - x0) / 800.0;
         let uy = (y1 - y0) / 400.0;
         assert!((ux - uy).abs() < 1e-12 * ux);
         assert!(x0 <= -1.0 && x1 >= 11.0 && y0 <= -1.0 && y1 >= 1.0);
+    }
+
+    #[test]
+    fn a_flat_heap_gets_a_low_image_and_a_tall_column_the_full_one() {
+        let flat = ((-90.0, 90.0), (0.0, 16.0));
+        assert_eq!(image_size(flat), (SIZE.0, MIN_HEIGHT));
+        let tall = ((-10.0, 10.0), (0.0, 100.0));
+        assert_eq!(image_size(tall), SIZE);
+        let between = ((0.0, 100.0), (0.0, 60.0));
+        let h = image_size(between).1;
+        assert!(h > MIN_HEIGHT && h < SIZE.1, "{h}");
     }
 
     #[test]
