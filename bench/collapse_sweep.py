@@ -8,7 +8,11 @@ same column 1.5 times wider in grains), and writes OUT.csv (columns count,
 aspect_ratio, h0_m, r0_m, r_inf_m, front_m, runout, lube, r0_over_d). Then
 `cargo run -p grains-sim --example collapse_runout -- OUT.csv` draws OUT.png.
 
-usage: python3 bench/collapse_sweep.py GRAINS_BINARY OUT.csv [WORK_DIR]
+With --wide, also `collapse.toml` scaled 1.5 and 2 times (R0/d = 11.25 and 15, 13 k and
+31 k spheres, the fill, domain, release and duration grown with it): 7 and 20 min more
+on one core.
+
+usage: python3 bench/collapse_sweep.py GRAINS_BINARY OUT.csv [WORK_DIR] [--wide]
 No dependencies beyond the standard library; the five runs take about 2 min on 2 cores.
 """
 import math
@@ -23,8 +27,10 @@ COUNTS = [180, 480, 760, 1140]
 # Height of tube each sphere's random place takes (m): the fill's solid fraction is 0.26.
 PER_SPHERE = 0.045 / 480
 
-grains, out = sys.argv[1:3]
-work = sys.argv[3] if len(sys.argv) > 3 else tempfile.mkdtemp()
+wide = '--wide' in sys.argv
+args = [a for a in sys.argv[1:] if a != '--wide']
+grains, out = args[:2]
+work = args[2] if len(args) > 2 else tempfile.mkdtemp()
 here = os.path.dirname(os.path.abspath(__file__))
 base = open(os.path.join(here, '..', 'examples', 'dem3d', 'collapse_small.toml')).read()
 D = 0.004
@@ -56,8 +62,28 @@ for n in COUNTS:
     record(n, run(grains, text, work, f'collapse_n{n}'))
 full = open(os.path.join(here, '..', 'examples', 'dem3d', 'collapse.toml')).read()
 record(int(re.search(r'(?m)^count = (\d+)', full).group(1)), run(grains, full, work, 'collapse'))
+
+
+def widened(f):
+    """collapse.toml with the tube, fill and domain f times wider and taller (the same
+    grains): the count grows as f³, the fall and spread times as √f."""
+    n = int(round(3850 * f ** 3))
+    t = re.sub(r'(?m)^count = .*$', f'count = {n}', full)
+    t = t.replace('lo = [-0.18, -0.18, 0.0]', f'lo = [{-0.18 * f:.3f}, {-0.18 * f:.3f}, 0.0]')
+    t = t.replace('hi = [0.18, 0.18, 0.17]', f'hi = [{0.18 * f:.3f}, {0.18 * f:.3f}, {0.17 * f:.3f}]')
+    t = t.replace('radius = 0.03\ninside', f'radius = {0.03 * f:.4f}\ninside')
+    t = t.replace('radius = 0.03, height = 0.16', f'radius = {0.03 * f:.4f}, height = {0.16 * f:.4f}')
+    release = round(0.4 * f ** 0.5 + 0.05, 2)
+    t = re.sub(r'(?m)^release = .*$', f'release = {release}', t)
+    t = re.sub(r'(?m)^duration = .*$', f'duration = {release + 0.5 * f ** 0.5 + 0.1:.2f}', t)
+    return n, t
+
+
+for f in ([1.5, 2.0] if wide else []):
+    n, text = widened(f)
+    record(n, run(grains, text, work, f'collapse_x{f}'))
 with open(out, 'w') as f:
     f.write('count,aspect_ratio,h0_m,r0_m,r_inf_m,front_m,runout,lube,r0_over_d\n')
     for r in rows:
-        f.write('{},{:.4f},{:.5f},{:.5f},{:.5f},{:.5f},{:.4f},{:.4f},{:.1f}\n'.format(*r))
+        f.write('{},{:.4f},{:.5f},{:.5f},{:.5f},{:.5f},{:.4f},{:.4f},{:.2f}\n'.format(*r))
 print(out)
