@@ -292,12 +292,11 @@ fn set_threads(threads: Option<usize>) -> Result<usize, Failure> {
 }
 
 fn options(out: PathBuf, threads: usize, stop_at_step: Option<u64>) -> RunOptions<'static> {
-    interrupt::install();
     RunOptions {
         out,
         threads,
         stop_at_step,
-        interrupt: Some(&interrupt::REQUESTED),
+        interrupt: Some(interrupt::install(true)),
         progress: Box::new(progress::Bar::new()),
     }
 }

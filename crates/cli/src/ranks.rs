@@ -85,9 +85,9 @@ fn options(
         out,
         threads,
         stop_at_step,
-        // A signal reaches the ranks at different steps; a stop must be taken by all
-        // at the same one (not done yet: docs/parallel.md).
-        interrupt: None,
+        // A signal reaches the ranks at different steps (or one rank only): the run
+        // loop reads every rank's flag together and all stop at the same step.
+        interrupt: Some(super::interrupt::install(leader)),
         progress: if leader {
             Box::new(progress::Bar::new())
         } else {
