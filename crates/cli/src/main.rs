@@ -77,6 +77,10 @@ enum Command {
         /// Threads the wall-time estimate is for (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
+        /// 2D DEM: also spread the start over this many ranks as `mpirun -np N grains
+        /// run` would, and print each rank's particles, ghosts and memory.
+        #[arg(long)]
+        ranks: Option<usize>,
     },
     /// Generate a dense packing from a spec (TOML); writes packing.txt, a frame, plots,
     /// summary.json.
@@ -231,7 +235,8 @@ fn main() -> ExitCode {
             scenario,
             json,
             threads,
-        } => cmd_check(&scenario, json, threads),
+            ranks,
+        } => cmd_check(&scenario, json, threads, ranks),
         Command::Pack { spec, out, threads } => cmd_pack(&spec, out, threads),
         Command::Analyze {
             file,
@@ -292,12 +297,11 @@ fn set_threads(threads: Option<usize>) -> Result<usize, Failure> {
 }
 
 fn options(out: PathBuf, threads: usize, stop_at_step: Option<u64>) -> RunOptions<'static> {
-    interrupt::install();
     RunOptions {
         out,
         threads,
         stop_at_step,
-        interrupt: Some(&interrupt::REQUESTED),
+        interrupt: Some(interrupt::install(true)),
         progress: Box::new(progress::Bar::new()),
     }
 }
@@ -384,18 +388,34 @@ fn report(result: Result<Finished, RunError>, speak: bool) -> Result<ExitCode, F
     }
 }
 
-fn cmd_check(path: &Path, json: bool, threads: Option<usize>) -> Result<ExitCode, Failure> {
+fn cmd_check(
+    path: &Path,
+    json: bool,
+    threads: Option<usize>,
+    ranks: Option<usize>,
+) -> Result<ExitCode, Failure> {
     let src = Source::read(path).map_err(input)?;
     if threads == Some(0) {
         return Err(input("--threads = 0: must be at least 1"));
     }
     let threads = threads.unwrap_or_else(rayon::current_num_threads);
     let d = check::check(&src, threads).map_err(input)?;
+    let spread = ranks
+        .map(|n| grains_sim::dem::spread::spread(&src, n))
+        .transpose()
+        .map_err(input)?;
     if json {
-        let text = serde_json::to_string_pretty(&d.json()).map_err(input)?;
+        let mut v = d.json();
+        if let Some(s) = &spread {
+            v["ranks"] = s.json();
+        }
+        let text = serde_json::to_string_pretty(&v).map_err(input)?;
         println!("{text}");
     } else {
         print!("{}", d.text());
+        if let Some(s) = &spread {
+            print!("{}", s.text());
+        }
         println!("ok");
     }
     Ok(if d.checks.iter().all(|c| c.pass) {

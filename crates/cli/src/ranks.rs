@@ -21,12 +21,16 @@ pub fn refuse(launch: Launch, command: &str) -> Option<String> {
     })
 }
 
-/// The MPI world as the transport of a run.
-fn world() -> Result<Link, Failure> {
+/// MPI, finalised when dropped.
+type Mpi = Box<dyn std::any::Any>;
+
+/// The MPI world as the transport of a run, and MPI itself, finalised when the second
+/// is dropped (after rank 0 has said how the run ended: [`ended`]).
+fn world() -> Result<(Link, Mpi), Failure> {
     #[cfg(feature = "mpi")]
     {
-        grains_mpi::World::init()
-            .map(|w| Link(Box::new(w)))
+        grains_mpi::World::init_apart()
+            .map(|(w, mpi)| (Link(Box::new(w)), Box::new(mpi) as Mpi))
             .ok_or_else(|| {
                 input("MPI cannot be initialised for this run: it was already, or the library does not offer MPI_THREAD_SERIALIZED")
             })
@@ -57,7 +61,35 @@ pub fn cmd_run(
     driver::writable_out(&out).map_err(input)?;
     let leader = launch.rank == 0;
     let opts = options(leader, out, threads, stop_at_step);
-    report(sim_run::run_on(&src, opts, world()?), leader)
+    let (link, mpi) = world()?;
+    ended(
+        report(sim_run::run_on(&src, opts, link), leader),
+        leader,
+        mpi,
+    )
+}
+
+/// The end of a run on one of several ranks: rank 0 prints its line now, then MPI is
+/// finalised. Stopping a job on Ctrl-C, mpirun (OpenMPI 4.1) sends the ranks SIGTERM,
+/// then SIGKILL a second later, and MPI_Finalize does not return meanwhile
+/// (docs/parallel.md, "Signals under mpirun"): the line comes first, a signal during the
+/// finalisation exits at once with the run's code, and an interrupted run gives the
+/// finalisation half a second.
+fn ended(done: Result<ExitCode, Failure>, leader: bool, mpi: Mpi) -> Result<ExitCode, Failure> {
+    let (code, exit) = match done {
+        Ok(exit) => (0, exit),
+        Err((code, msg)) if leader => (code, super::fail(code, &msg)),
+        Err((code, _)) => (code, ExitCode::from(code)),
+    };
+    super::interrupt::settle(code);
+    if code == 130 {
+        std::thread::spawn(|| {
+            std::thread::sleep(std::time::Duration::from_millis(500));
+            std::process::exit(130);
+        });
+    }
+    drop(mpi);
+    Ok(exit)
 }
 
 /// `grains resume DIR` on every rank of `launch`: each reads the checkpoint, whatever
@@ -71,7 +103,12 @@ pub fn cmd_resume(
     let threads = set_threads(threads)?;
     let leader = launch.rank == 0;
     let opts = options(leader, dir.to_path_buf(), threads, stop_at_step);
-    report(sim_run::resume_on(dir, opts, world()?), leader)
+    let (link, mpi) = world()?;
+    ended(
+        report(sim_run::resume_on(dir, opts, link), leader),
+        leader,
+        mpi,
+    )
 }
 
 /// The options of a run on one of several ranks: rank 0 shows the progress.
@@ -85,9 +122,9 @@ fn options(
         out,
         threads,
         stop_at_step,
-        // A signal reaches the ranks at different steps; a stop must be taken by all
-        // at the same one (not done yet: docs/parallel.md).
-        interrupt: None,
+        // A signal reaches the ranks at different steps (or one rank only): the run
+        // loop reads every rank's flag together and all stop at the same step.
+        interrupt: Some(super::interrupt::install(leader)),
         progress: if leader {
             Box::new(progress::Bar::new())
         } else {
@@ -98,7 +135,7 @@ fn options(
 
 /// `grains bench dem` (2D) on every rank: rank 0 prints the report.
 pub fn cmd_bench_dem(bed: bench::dem::Bed, steps: u64) -> Result<ExitCode, Failure> {
-    let link = world()?;
+    let (link, _mpi) = world()?;
     if let Some(r) = bench::dem_ranks::run_on(&bed, steps, link).map_err(input)? {
         print!("{}", r.text());
     }

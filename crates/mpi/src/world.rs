@@ -11,11 +11,12 @@ use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use mpi::Count;
 
-/// The MPI world: initialised once per process and finalised when dropped.
+/// The MPI world: initialised once per process and finalised when dropped (or when the
+/// universe [`World::init_apart`] gave is).
 pub struct World {
     // Dropped after `comm` (fields drop in order): finalises MPI.
     comm: SimpleCommunicator,
-    _universe: mpi::environment::Universe,
+    _universe: Option<mpi::environment::Universe>,
 }
 
 // A run steps from a worker of the thread pool (rayon::scope), not from the thread that
@@ -31,14 +32,25 @@ impl World {
     /// Initialises MPI for calls from any one thread at a time; `None` if it already was
     /// in this process, or the library cannot serve calls from several threads.
     pub fn init() -> Option<World> {
+        Self::init_apart().map(|(mut w, universe)| {
+            w._universe = Some(universe);
+            w
+        })
+    }
+
+    /// [`World::init`], with MPI finalised when the caller drops the universe rather
+    /// than the world: a caller can then speak after the run and before MPI_Finalize,
+    /// which may not return while mpirun is stopping the job.
+    pub fn init_apart() -> Option<(World, mpi::environment::Universe)> {
         let (universe, level) = mpi::initialize_with_threading(Threading::Serialized)?;
         if level < Threading::Serialized {
             return None;
         }
-        Some(World {
+        let world = World {
             comm: universe.world(),
-            _universe: universe,
-        })
+            _universe: None,
+        };
+        Some((world, universe))
     }
 
     /// Every rank's values, `values.len()` each, in rank order.

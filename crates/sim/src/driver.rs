@@ -76,6 +76,36 @@ pub trait Simulation: Send {
     /// and at the end: a run spread over ranks gathers it on rank 0 there (so every rank
     /// calls this at the same steps), not at every step.
     fn gather(&mut self) {}
+    /// Whether `flag` holds on any rank of a run spread over ranks (every rank calls
+    /// this at the same steps); on one rank, `flag` itself.
+    fn agree(&self, flag: bool) -> bool {
+        flag
+    }
+    /// Ranks the run is spread over.
+    fn ranks(&self) -> usize {
+        1
+    }
+}
+
+/// Steps between two readings of the interrupt flag on a run spread over ranks. A
+/// signal reaches the ranks at different steps (or one rank only), so they read the
+/// flag together, through one all-gather of a word at these steps, and all stop at the
+/// same one. Beside the per-step exchanges (ghosts; the energy ledger, 6 words per
+/// particle) the cost is nil; a run on one rank reads its flag at every step.
+pub const AGREE_EVERY: u64 = 16;
+
+/// `r` as every rank of a run spread over ranks sees it. Rank 0 alone writes the
+/// outputs, so its failure must stop every rank at the same point rather than leave
+/// the others waiting for it: every rank calls this at the same steps, and where any
+/// failed, all fail (the others with a line pointing at rank 0's message).
+pub fn agreed<S: Simulation, T, E: From<anyhow::Error>>(sim: &S, r: Result<T, E>) -> Result<T, E> {
+    if sim.agree(r.is_err()) && r.is_ok() {
+        return Err(anyhow::anyhow!(
+            "stopped with the other ranks: rank 0 could not write the run's outputs (its message says why)"
+        )
+        .into());
+    }
+    r
 }
 
 /// What an observer asks of the run after a sample.
@@ -372,7 +402,10 @@ impl Stepper {
         mut counters: Counters,
     ) -> anyhow::Result<Self> {
         if counters.last_frame_step.is_none() {
-            frame(sim, observers, FrameKind::Regular, &mut counters)?;
+            agreed(
+                sim,
+                frame(sim, observers, FrameKind::Regular, &mut counters),
+            )?;
         }
         Ok(Stepper {
             plan,
@@ -428,11 +461,13 @@ impl Stepper {
                 return Ok(Some(unstable_at(c, &why)));
             }
             let mut status = Status::Completed;
-            for o in observers.iter_mut() {
+            let watched = observers.iter_mut().try_for_each(|o| {
                 if let Flow::Stop(s) = o.on_sample(sim, &sample)? {
                     status = s;
                 }
-            }
+                anyhow::Ok(())
+            });
+            agreed(sim, watched)?;
             if status != Status::Completed {
                 return Ok(Some(status));
             }
@@ -452,13 +487,18 @@ impl Stepper {
         // A snapshot on a step the schedule also wants is one frame, not the same
         // state twice in the series.
         if snapped {
-            frame(sim, observers, FrameKind::Snapshot, counters)?;
+            agreed(sim, frame(sim, observers, FrameKind::Snapshot, counters))?;
         } else if regular {
-            frame(sim, observers, FrameKind::Regular, counters)?;
+            agreed(sim, frame(sim, observers, FrameKind::Regular, counters))?;
         }
         control.progress.update(plan.horizon.fraction(c), c);
         let pause = control.stop_at_step.is_some_and(|s| c.step >= s);
-        let signal = control.interrupt.is_some_and(|f| f.load(Ordering::Relaxed));
+        let raised = || control.interrupt.is_some_and(|f| f.load(Ordering::Relaxed));
+        let signal = if sim.ranks() == 1 {
+            raised()
+        } else {
+            c.step.is_multiple_of(AGREE_EVERY) && sim.agree(raised())
+        };
         let periodic = plan
             .checkpoint_every
             .is_some_and(|k| c.step.is_multiple_of(k.max(1)));
@@ -468,7 +508,7 @@ impl Stepper {
             if !gathered {
                 sim.gather();
             }
-            self.checkpoint(sim, observers, control)?;
+            agreed(sim, self.checkpoint(sim, observers, control))?;
             if signal {
                 return Ok(Some(Status::Interrupted));
             }
@@ -507,13 +547,16 @@ impl Stepper {
         let clock = sim.clock();
         let wall_time_s = self.counters.wall_time + self.stepping;
         let steps_run = self.counters.steps_before + clock.step - self.first_step;
-        if status.finished() && self.counters.last_frame_step != Some(clock.step) {
-            frame(sim, observers, FrameKind::Final, &mut self.counters)?;
-        }
         let mut report = Report::default();
-        for o in observers.iter_mut() {
-            o.on_end(sim, &status, &mut report)?;
-        }
+        let ended = (|| {
+            if status.finished() && self.counters.last_frame_step != Some(clock.step) {
+                frame(sim, observers, FrameKind::Final, &mut self.counters)?;
+            }
+            observers
+                .iter_mut()
+                .try_for_each(|o| o.on_end(sim, &status, &mut report))
+        })();
+        agreed(sim, ended)?;
         discount(&mut report, &status);
         Ok(Outcome {
             status,

@@ -444,5 +444,7 @@ pub fn run_live<L: Live>(
     })?;
     let outcome = stepper.finish(sim, &mut observers, status, &mut control)?;
     drop(observers);
-    live.conclude(outcome, threads)
+    let done = live.conclude(outcome, threads);
+    // Rank 0 wrote the plots and the summary: every rank ends as it did.
+    driver::agreed(live.parts().0, done)
 }

@@ -4,10 +4,13 @@
 //! serial run's bit for bit.
 
 use grains_dem::decomp::local::run_ranks;
+use grains_dem::Reduce;
 use grains_sim::dem::ranks::Link;
+use grains_sim::driver::{Progress, AGREE_EVERY};
 use grains_sim::run::{self, RunOptions};
-use grains_sim::{Finished, Source};
+use grains_sim::{Clock, Finished, Source};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 fn example(name: &str) -> Source {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -277,4 +280,119 @@ fn a_checkpoint_of_another_scenario_is_refused_on_every_rank() {
             "rank {r}: {e}"
         );
     }
+}
+
+/// A progress display that raises `flag` once the run reaches step `at`: a signal
+/// arriving on one rank at a step of its own.
+struct RaiseAt<'a> {
+    at: u64,
+    flag: &'a AtomicBool,
+}
+
+impl Progress for RaiseAt<'_> {
+    fn update(&mut self, _done: f64, clock: Clock) {
+        if clock.step >= self.at {
+            self.flag.store(true, Ordering::SeqCst);
+        }
+    }
+}
+
+/// A progress display that puts a directory where the run will write `file` once the
+/// run reaches step `at` (so that the write fails, even for root).
+struct BlockAt {
+    at: u64,
+    file: PathBuf,
+}
+
+impl Progress for BlockAt {
+    fn update(&mut self, _done: f64, clock: Clock) {
+        if clock.step >= self.at {
+            std::fs::create_dir_all(self.file.join("in_the_way")).unwrap();
+        }
+    }
+}
+
+/// Ctrl-C or SIGTERM on one rank only: every rank stops at the same step (the first
+/// agreement step at or after it), rank 0 writes one checkpoint, every rank ends
+/// interrupted, and the checkpoint resumes to the straight run's state hash.
+#[test]
+fn a_signal_on_one_rank_stops_every_rank_at_the_same_step() {
+    let src = example("ranks_column.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let straight = run::run(&src, RunOptions::new(dir.path().join("straight"))).unwrap();
+    let out = dir.path().join("interrupted");
+    let at = straight.summary.steps / 2 + 5;
+    let flags = [AtomicBool::new(false), AtomicBool::new(false)];
+    let done = on_ranks_with(2, |l| {
+        let r = l.rank();
+        let mut opts = RunOptions::new(&out);
+        opts.interrupt = Some(&flags[r]);
+        if r == 1 {
+            opts.progress = Box::new(RaiseAt {
+                at,
+                flag: &flags[1],
+            });
+        }
+        run::run_on(&src, opts, l)
+    });
+    let want = at.next_multiple_of(AGREE_EVERY);
+    for (r, d) in done.iter().enumerate() {
+        let d = d.as_ref().unwrap_or_else(|e| panic!("rank {r}: {e}"));
+        assert_eq!(d.status.name(), "interrupted", "rank {r}");
+        assert_eq!(d.summary.steps, want, "rank {r}");
+    }
+    assert!(
+        !flags[0].load(Ordering::SeqCst),
+        "rank 0 never got the signal"
+    );
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("\"interrupted\""), "{summary}");
+    let resumed = on_ranks_with(2, |l| run::resume_on(&out, RunOptions::new(&out), l));
+    hashed(resumed, &straight.summary.state_hash, "resumed on 2 ranks");
+}
+
+/// Every rank's error, each one line: rank 0's names `what`, the others point at rank 0.
+fn failed_together(done: Vec<Result<Finished, String>>, what: &str) {
+    for (r, d) in done.into_iter().enumerate() {
+        let e = d.err().unwrap_or_else(|| panic!("rank {r}: no error"));
+        let want = if r == 0 {
+            what
+        } else {
+            "rank 0 could not write"
+        };
+        assert!(e.contains(want) && !e.contains('\n'), "rank {r}: {e}");
+    }
+}
+
+/// A write that fails on rank 0 (which alone writes) fails every rank at the same point,
+/// with one message on rank 0, rather than leaving the others waiting for it: at the
+/// start (the output directory), at a checkpoint, and at the end (the summary).
+#[test]
+fn a_failed_write_on_rank_0_stops_every_rank() {
+    let src = example("ranks_column.toml");
+    let dir = tempfile::tempdir().unwrap();
+    // At the start: a stale checkpoint that cannot be removed.
+    let out = dir.path().join("start");
+    std::fs::create_dir_all(out.join("checkpoint.bin/in_the_way")).unwrap();
+    let done = on_ranks_with(2, |l| run::run_on(&src, RunOptions::new(&out), l));
+    failed_together(done, "checkpoint.bin");
+    // At a checkpoint half-way.
+    let out = dir.path().join("checkpoint");
+    let done = on_ranks_with(2, |l| {
+        let mut opts = RunOptions::new(&out);
+        opts.stop_at_step = Some(100);
+        if l.rank() == 0 {
+            opts.progress = Box::new(BlockAt {
+                at: 100,
+                file: out.join("checkpoint.bin"),
+            });
+        }
+        run::run_on(&src, opts, l)
+    });
+    failed_together(done, "checkpoint.bin");
+    // At the end.
+    let out = dir.path().join("end");
+    std::fs::create_dir_all(out.join("summary.json/in_the_way")).unwrap();
+    let done = on_ranks_with(2, |l| run::run_on(&src, RunOptions::new(&out), l));
+    failed_together(done, "summary.json");
 }

@@ -13,6 +13,7 @@ pub mod records;
 pub mod rest;
 pub mod run;
 pub mod scenario;
+pub mod spread;
 
 use crate::dispersal::{Dispersing, Frame};
 use crate::driver::{Clock, ParticleView, Simulation};
@@ -20,7 +21,7 @@ use crate::forces::{Hook, Outside};
 use crate::output::Capabilities;
 use grains_core::input::InputError;
 use grains_dem::diagnostics::{self, Diagnostics};
-use grains_dem::{step, step_with, Setup, State};
+use grains_dem::{step, step_with, Reduce, Setup, State};
 use std::borrow::Cow;
 
 /// What a DEM run writes, and its defaults.
@@ -164,6 +165,17 @@ impl Simulation for Dem {
         if let Some(part) = self.ranks.as_mut() {
             part.gather(&self.setup, &mut self.state);
         }
+    }
+
+    fn agree(&self, flag: bool) -> bool {
+        match &self.ranks {
+            Some(part) => part.dec.any(flag),
+            None => flag,
+        }
+    }
+
+    fn ranks(&self) -> usize {
+        self.ranks.as_ref().map_or(1, |p| p.dec.ranks())
     }
 
     fn checkpoint(&self) -> Option<Vec<u8>> {

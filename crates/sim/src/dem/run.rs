@@ -10,13 +10,14 @@ use super::scenario::Scenario;
 use super::{plots, Dem, CAPABILITIES};
 use crate::checkpoint;
 use crate::dispersal::DispersalObserver;
-use crate::driver::{restore_observers, Every, Observer, Outcome, Report, Status, Stepper};
+use crate::driver::{agreed, restore_observers, Every, Observer, Outcome, Report, Status, Stepper};
 use crate::frames::{FrameRecorder, Snapshots};
 use crate::history::HistoryRecorder;
 use crate::run::{
-    finish, recorders, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions,
+    finish, fresh_out, recorders, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions,
 };
 use crate::source::Source;
+use anyhow::Context;
 use grains_core::history::History;
 use grains_dem::{Reduce, State};
 use std::path::{Path, PathBuf};
@@ -168,14 +169,42 @@ pub fn open_on(
         let hold = s.run.stop_rest_time.unwrap_or(20.0 * every as f64 * sim.dt);
         RestDetector::new(&sim, ratio, hold)
     });
-    let (history, writers, counters) = if leader {
-        let (history, frames, counters) = recorders(
+    // Rank 0 starts the output directory; a failure there stops every rank. Both
+    // branches below sample a fresh start, together, so what could fail before that
+    // sample is tried first, by itself.
+    if sim.ranks.is_some() && resume.is_none() {
+        let ready = match leader {
+            true => fresh_out(&out, &src.text).and_then(|()| {
+                let path = out.join("history.csv");
+                std::fs::File::create(&path)
+                    .map(drop)
+                    .with_context(|| format!("cannot create {}", path.display()))
+            }),
+            false => Ok(()),
+        };
+        agreed(&sim, ready)?;
+    }
+    let started = if leader {
+        recorders(
             &out,
             &src.text,
             &mut sim,
             &plan,
             resume.as_ref().map(|r| &r.progress.counters),
-        )?;
+        )
+        .map(|(history, frames, counters)| (history, Some(frames), counters))
+    } else {
+        // Every rank keeps the loop's counters: they say when all gather together.
+        let counters = match &resume {
+            Some(r) => r.progress.counters.clone(),
+            None => crate::driver::Counters::fresh(&plan),
+        };
+        HistoryRecorder::discarding(&mut sim, resume.is_none())
+            .map(|history| (history, None, counters))
+            .map_err(RunError::from)
+    };
+    let (history, frames, counters) = agreed(&sim, started)?;
+    let writers = if let Some(frames) = frames {
         let checks = CheckObserver::new(&sim, &s.checks);
         // On a resumed run the analysis covers the new segment; `grains analyze RUN_DIR`
         // covers every frame.
@@ -186,7 +215,7 @@ pub fn open_on(
             let centre = glam::DVec2::from(d.centre.unwrap_or_default());
             DispersalObserver::new(&s.name, d, centre, s.run.duration, &out)
         });
-        let writers = Writers {
+        Some(Writers {
             frames,
             snaps: Snapshots {
                 dir: out.join("plots"),
@@ -196,22 +225,15 @@ pub fn open_on(
                 scenario: s.clone(),
             },
             dispersal,
-        };
-        (history, Some(writers), counters)
+        })
     } else {
-        let history = HistoryRecorder::discarding(&mut sim, resume.is_none())?;
         // Rank 0 holds the whole state; here it was needed only to take this part.
         sim.state = State {
             time: sim.state.time,
             step: sim.state.step,
             ..Default::default()
         };
-        // Every rank keeps the loop's counters: they say when all gather together.
-        let counters = match &resume {
-            Some(r) => r.progress.counters.clone(),
-            None => crate::driver::Counters::fresh(&plan),
-        };
-        (history, None, counters)
+        None
     };
     let mut watchers = Watchers {
         history,
@@ -220,7 +242,10 @@ pub fn open_on(
     };
     let mut observers = watchers.list();
     if let Some(r) = &resume {
-        restore_observers(&mut observers, &r.progress.observers)?;
+        agreed(
+            &sim,
+            restore_observers(&mut observers, &r.progress.observers),
+        )?;
     }
     let stepper = Stepper::start(&sim, &mut observers, plan, counters)?;
     drop(observers);

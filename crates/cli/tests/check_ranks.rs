@@ -1,0 +1,86 @@
+//! `grains check --ranks N`: a 2D DEM start spread over N ranks as a run under mpirun
+//! spreads it, without MPI: each rank's particles, ghosts and memory; bad input refused
+//! with one line naming the value.
+
+mod common;
+use common::*;
+
+/// `grains check --ranks N --json` on `file`: the `ranks` object.
+fn spread(file: &std::path::Path, n: usize) -> serde_json::Value {
+    let o = grains(&[
+        "check",
+        file.to_str().unwrap(),
+        "--ranks",
+        &n.to_string(),
+        "--json",
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
+    v["ranks"].clone()
+}
+
+#[test]
+fn the_column_spread_over_1_2_and_4_ranks() {
+    let column = example("dem/ranks_column.toml");
+    for n in [1, 2, 4] {
+        let s = spread(&column, n);
+        let grid: Vec<u64> = s["grid"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|d| d.as_u64().unwrap())
+            .collect();
+        assert_eq!(grid.iter().product::<u64>(), n as u64, "{s}");
+        let ranks = s["per_rank"].as_array().unwrap();
+        assert_eq!(ranks.len(), n);
+        let count = |k: &str| ranks.iter().map(|r| r[k].as_u64().unwrap()).sum::<u64>();
+        assert_eq!(count("owned"), 400, "{n} ranks: every disk owned once");
+        let ghosts = count("ghosts");
+        assert_eq!(ghosts == 0, n == 1, "{n} ranks: {ghosts} ghosts");
+        let fraction = s["ghosts_per_owned"].as_f64().unwrap();
+        assert_eq!(fraction, ghosts as f64 / 400.0);
+        // Memory: the run's figure per particle, on owned + ghost particles.
+        let per = |bytes: u64, k: u64| (bytes - (1 << 20)) as f64 / k as f64;
+        let whole = per(s["start_memory_bytes"].as_u64().unwrap(), 400);
+        for r in ranks {
+            let held = r["owned"].as_u64().unwrap() + r["ghosts"].as_u64().unwrap();
+            let m = r["memory_bytes_estimate"].as_u64().unwrap();
+            assert_eq!(per(m, held), whole, "{r}");
+        }
+    }
+    let o = grains(&["check", column.to_str().unwrap(), "--ranks", "2"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    for want in ["on a 1 x 2 grid", "rank 1", "per owned", "memory ≈"] {
+        assert!(o.stdout.contains(want), "{want}: {}", o.stdout);
+    }
+}
+
+#[test]
+fn a_rank_count_the_scenario_cannot_take_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let column = std::fs::read_to_string(example("dem/ranks_column.toml")).unwrap();
+    let grid = column.replace("[run]", "[parallel]\nranks = [3, 1]\n\n[run]");
+    let cases: [(&str, &str, &str, &[&str]); 3] = [
+        ("zero.toml", &column, "0", &["--ranks = 0", "at least 1"]),
+        (
+            "grid.toml",
+            &grid,
+            "2",
+            &["parallel.ranks = [3, 1]", "makes 3 ranks"],
+        ),
+        (
+            "narrow.toml",
+            &column,
+            "29",
+            &["under the contact range", "at most"],
+        ),
+    ];
+    for (name, text, n, want) in cases {
+        std::fs::write(dir.path().join(name), text).unwrap();
+        let o = grains_in(Some(dir.path()), &["check", name, "--ranks", n]);
+        assert_refused(&o, dir.path(), want);
+    }
+    let mpm = example("mpm/j2_simple_shear.toml");
+    let o = grains(&["check", mpm.to_str().unwrap(), "--ranks", "2"]);
+    assert_refused(&o, dir.path(), &["engine = \"mpm\"", "2D DEM"]);
+}
