@@ -153,6 +153,8 @@ pub fn read_into(
         springs_released: ledger[2],
         stored_normal: ledger[3],
         stored_tangential: ledger[4],
+        // The ring's grains are under the linear law: its other terms are zero.
+        ..Default::default()
     });
     Ok(())
 }

@@ -3,7 +3,7 @@
 use crate::comm::{Reduce, Serial};
 use crate::contact::{PairParams, PairTable};
 use crate::domain::Image;
-use crate::law::{Contact, ContactLaw, LedgerTerms};
+use crate::law::{Contact, ContactLaw, LedgerTerms, Prior};
 use crate::ledger::{EnergyLedger, Off, On, PassTally, Tally};
 use crate::math::{self, AngVector, Components, Tangent, TangentOps, Vector, ANG, DIM, TAN};
 use crate::neighbours::ContactList;
@@ -159,23 +159,21 @@ pub fn pair_contacts_on<R: Reduce + ?Sized>(
     reduce: &R,
     owns: impl Fn(usize) -> bool,
 ) {
-    if let Some(table) = &setup.granular {
-        crate::granular_pass::pair_contacts(setup, table, p, list, dt);
-        if let Some(l) = ledger {
-            // The granular law does not split its dissipation (`ContactLaw::LEDGER`):
-            // a ledger set by hand reads NaN rather than wrong numbers.
-            *l = EnergyLedger::refused();
-        }
-        return;
-    }
+    let granular = setup.granular.as_ref();
     match ledger {
-        None => {
-            dispatch::<Off>(setup, p, list, dt, &mut []);
-        }
+        None => match granular {
+            Some(table) => crate::granular_pass::pair_contacts(setup, table, p, list, dt, None),
+            None => dispatch::<Off>(setup, p, list, dt, &mut []),
+        },
         Some(l) => {
             let mut rows = std::mem::take(&mut list.ledger_rows);
             rows.resize(p.len(), PassTally::default());
-            dispatch::<On>(setup, p, list, dt, &mut rows);
+            match granular {
+                Some(table) => {
+                    crate::granular_pass::pair_contacts(setup, table, p, list, dt, Some(&mut rows))
+                }
+                None => dispatch::<On>(setup, p, list, dt, &mut rows),
+            }
             let pass = crate::ledger::in_id_order(&rows, &p.id, owns, reduce, &mut list.by_id);
             list.ledger_rows = rows;
             l.record(&pass);
@@ -504,7 +502,12 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
             let mut xi = xi0;
             let r = pp.respond(&contact, &mut xi, self.dt);
             if let (true, Some(tl)) = (T::ON, tally.as_deref_mut()) {
-                tl.terms[t] = pp.ledger_terms(&contact, &xi0, &xi, &r, self.dt);
+                let (i, j) = (b.i[t] as usize, b.j[t] as usize);
+                let prior = Prior {
+                    overlap: b.rsum[t] - (d + self.dt * contact.v).length(),
+                    omega_sum: self.omega[i] + self.omega[j],
+                };
+                tl.terms[t] = pp.ledger_terms(&contact, &xi0, &xi, &r, self.dt, &prior);
             }
             r.force.write(&mut b.f, t);
             r.moment.write(&mut b.ft, t);

@@ -187,17 +187,19 @@ const TWIST: usize = 2 * TAN + 1;
 
 pub use crate::law::{Contact, Response};
 
-/// Evaluates one contact and advances its history `h` by `dt` (when `update`; LAMMPS's
-/// set-up evaluation does not).
-pub fn respond(
-    p: &GranularParams,
-    c: &Contact,
-    h: &mut [f64; WIDTH],
-    dt: f64,
-    update: bool,
-) -> Response {
-    let n = c.n;
-    let vnn = -c.v.dot(n); // LAMMPS's v_r · n_ji: < 0 while approaching
+/// The normal force's parts at a contact: what the response and the ledger both read.
+pub(crate) struct NormalPart {
+    /// The contact radius a = √(δ R_eff).
+    pub a: f64,
+    /// The elastic normal force.
+    pub fne: f64,
+    /// The normal dashpot η_n.
+    pub eta_n: f64,
+}
+
+/// The contact radius, elastic normal force and normal dashpot of a contact.
+#[inline(always)]
+pub(crate) fn normal_part(p: &GranularParams, c: &Contact) -> NormalPart {
     let a = (c.overlap * c.r_eff).sqrt();
     let (fne, knfac) = match p.normal {
         Normal::Hooke => (p.kn * c.overlap, p.kn),
@@ -209,7 +211,37 @@ pub fn respond(
         Damping::Viscoelastic => a * c.m_eff,
         Damping::Tsuji | Damping::Restitution => (c.m_eff * knfac).sqrt(),
     };
-    let eta_n = p.damp * damp_normal;
+    NormalPart {
+        a,
+        fne,
+        eta_n: p.damp * damp_normal,
+    }
+}
+
+/// The tangential stiffness at contact radius `a`: k_t, or Mindlin's k_t a.
+#[inline(always)]
+pub(crate) fn tangential_stiffness(p: &GranularParams, a: f64) -> f64 {
+    match p.tangential {
+        Tangential::LinearHistory => p.kt,
+        Tangential::Mindlin | Tangential::MindlinRescale => p.kt * a,
+    }
+}
+
+/// History slots: the contact radius at the last step, the rolling spring, the twist.
+pub(crate) const SLOTS: (usize, usize, usize) = (A_PREV, ROLL, TWIST);
+
+/// Evaluates one contact and advances its history `h` by `dt` (when `update`; LAMMPS's
+/// set-up evaluation does not).
+pub fn respond(
+    p: &GranularParams,
+    c: &Contact,
+    h: &mut [f64; WIDTH],
+    dt: f64,
+    update: bool,
+) -> Response {
+    let n = c.n;
+    let vnn = -c.v.dot(n); // LAMMPS's v_r · n_ji: < 0 while approaching
+    let NormalPart { a, fne, eta_n } = normal_part(p, c);
     let mut fn_total = fne - eta_n * vnn;
     if p.limit_damping && fn_total < 0.0 {
         fn_total = 0.0;
@@ -306,24 +338,35 @@ pub fn respond(
 /// spring's (½ k_n δ², or (2/5)(4/3)E* √R δ^{5/2} for Hertz), and ½ k |ξ|² of the
 /// tangential, rolling and twisting springs at the present stiffnesses.
 pub fn stored_energy(p: &GranularParams, overlap: f64, r_eff: f64, h: &[f64; WIDTH]) -> f64 {
+    let s = stored_split(p, overlap, r_eff, h);
+    s.normal + s.tangential + s.rolling + s.twisting
+}
+
+/// [`stored_energy`] spring by spring, in the stored fields of a
+/// [`crate::law::LedgerTerms`].
+pub fn stored_split(
+    p: &GranularParams,
+    overlap: f64,
+    r_eff: f64,
+    h: &[f64; WIDTH],
+) -> crate::law::LedgerTerms {
     let a = (overlap * r_eff).sqrt();
-    let normal = match p.normal {
-        Normal::Hooke => 0.5 * p.kn * overlap * overlap,
-        Normal::HertzMaterial => 0.4 * p.kn * a * overlap * overlap,
+    let kt = tangential_stiffness(p, a);
+    let mut s = crate::law::LedgerTerms {
+        normal: match p.normal {
+            Normal::Hooke => 0.5 * p.kn * overlap * overlap,
+            Normal::HertzMaterial => 0.4 * p.kn * a * overlap * overlap,
+        },
+        tangential: Tangent::from_slice(&h[..TAN]).quad(0.5 * kt),
+        ..Default::default()
     };
-    let kt = match p.tangential {
-        Tangential::LinearHistory => p.kt,
-        Tangential::Mindlin | Tangential::MindlinRescale => p.kt * a,
-    };
-    let xi = Tangent::from_slice(&h[..TAN]);
-    let mut e = normal + xi.quad(0.5 * kt);
     if let Some(r) = p.rolling {
-        e += Tangent::from_slice(&h[ROLL..ROLL + TAN]).quad(0.5 * r.kr);
+        s.rolling = Tangent::from_slice(&h[ROLL..ROLL + TAN]).quad(0.5 * r.kr);
     }
     if p.twisting {
-        e += 0.5 * (0.5 * kt * a * a) * h[TWIST] * h[TWIST];
+        s.twisting = 0.5 * (0.5 * kt * a * a) * h[TWIST] * h[TWIST];
     }
-    e
+    s
 }
 
 fn write<T: Components>(h: &mut [f64], at: usize, v: T) {

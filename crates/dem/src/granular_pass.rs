@@ -13,7 +13,8 @@ use crate::contact::PairTable;
 use crate::domain::Image;
 use crate::granular::{Contact, Damping, GranularParams, Normal, Tangential};
 use crate::history::Pool;
-use crate::law::ContactLaw;
+use crate::law::{ContactLaw, Prior};
+use crate::ledger::PassTally;
 use crate::math::{self, AngVector, Components, Tangent, TangentOps, Vector, ANG, DIM, TAN};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
@@ -33,6 +34,8 @@ struct Chunk<'a> {
     touch: &'a mut [u8],
     force: &'a mut [Vector],
     torque: &'a mut [AngVector],
+    /// With the ledger: each particle's row terms (empty without).
+    terms: &'a mut [PassTally],
 }
 
 impl Chunk<'_> {
@@ -53,15 +56,19 @@ impl Chunk<'_> {
 }
 
 /// Evaluates every listed pair under `table`'s laws, advancing the histories by `dt`
-/// (none when `dt` is 0: the evaluation of a set-up, as LAMMPS's).
+/// (none when `dt` is 0: the evaluation of a set-up, as LAMMPS's). With `rows` (one per
+/// particle), each particle's row of ledger terms ([`ContactLaw::ledger_terms`]) is
+/// left there: the pass then takes every pair through the law one at a time (the
+/// blocked loop gives the same bits, and is kept free of the ledger's work).
 pub fn pair_contacts(
     setup: &Setup,
     table: &PairTable<GranularParams>,
     p: &mut Particles,
     list: &mut ContactList,
     dt: f64,
+    rows: Option<&mut [PassTally]>,
 ) {
-    crate::with_image!(setup.domain, run, (setup, table, p, list, dt));
+    crate::with_image!(setup.domain, run, (setup, table, p, list, dt, rows));
 }
 
 fn run<const P: u8>(
@@ -70,7 +77,10 @@ fn run<const P: u8>(
     p: &mut Particles,
     list: &mut ContactList,
     dt: f64,
+    rows: Option<&mut [PassTally]>,
 ) {
+    let book = rows.is_some();
+    let mut terms = rows.unwrap_or_default().chunks_mut(CHUNK);
     let image = Image::<P>::new(&setup.domain);
     // Particles of one material (the common case; walls may differ): the law is read
     // once, not per contact.
@@ -115,6 +125,7 @@ fn run<const P: u8>(
             touch: u,
             force: force.next().unwrap_or_default(),
             torque: torque.next().unwrap_or_default(),
+            terms: terms.next().unwrap_or_default(),
         });
         (slot, fpair, ftan, touch) = (h_rest, f_rest, t_rest, u_rest);
     }
@@ -133,13 +144,17 @@ fn run<const P: u8>(
         dt,
     };
     list.touching = match uniform.and_then(|law| Plain::of(&law)) {
+        _ if book => jobs
+            .into_par_iter()
+            .map(|mut c| ctx.scalar::<true>(uniform.as_ref(), &mut c))
+            .sum(),
         Some(plain) => jobs
             .into_par_iter()
             .map(|mut c| ctx.blocked(&plain, &mut c))
             .sum(),
         None => jobs
             .into_par_iter()
-            .map(|mut c| ctx.scalar(uniform.as_ref(), &mut c))
+            .map(|mut c| ctx.scalar::<false>(uniform.as_ref(), &mut c))
             .sum(),
     };
 }
@@ -161,9 +176,10 @@ struct Ctx<'a, const P: u8> {
 }
 
 impl<const P: u8> Ctx<'_, P> {
-    /// Any law, one entry at a time through [`ContactLaw::respond`]. Returns how many
-    /// entries touch.
-    fn scalar(&self, uniform: Option<&GranularParams>, c: &mut Chunk) -> usize {
+    /// Any law, one entry at a time through [`ContactLaw::respond`]; `BOOK`: each
+    /// row's ledger terms summed into `c.terms` in entry order. Returns how many entries
+    /// touch.
+    fn scalar<const BOOK: bool>(&self, uniform: Option<&GranularParams>, c: &mut Chunk) -> usize {
         let first = c.range.start;
         let base = self.row[first] as usize;
         let (pos, vel, omega, radius, inv_mass) =
@@ -171,6 +187,7 @@ impl<const P: u8> Ctx<'_, P> {
         let dt = self.dt;
         c.force.fill(Vector::ZERO);
         c.torque.fill(AngVector::default());
+        c.terms.fill(PassTally::default());
         for k in 0..c.slot.len() {
             let (i, j) = (self.owner[base + k] as usize, self.nbr[base + k] as usize);
             let d = self.image.apply(pos[j] - pos[i]);
@@ -196,7 +213,16 @@ impl<const P: u8> Ctx<'_, P> {
                     .table
                     .get(self.material[i] as usize, self.material[j] as usize),
             };
-            let r = law.respond(&contact, c.pool.take(&mut c.slot[k]), dt);
+            let h = c.pool.take(&mut c.slot[k]);
+            let before = *h;
+            let r = law.respond(&contact, h, dt);
+            if BOOK {
+                let prior = Prior {
+                    overlap: rsum - (d + dt * contact.v).length(),
+                    omega_sum: omega[i] + omega[j],
+                };
+                c.terms[i - first] += law.ledger_terms(&contact, &before, h, &r, dt, &prior);
+            }
             let half = 0.5 * contact.overlap;
             c.force[i - first] += r.force;
             c.torque[i - first] += (ri - half) * r.moment + r.couple;

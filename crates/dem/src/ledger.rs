@@ -22,6 +22,14 @@
 //! is read at the half step). Wall contacts are not in the ledger. Started on a state
 //! whose springs are not all zero, it takes them in with [`EnergyLedger::starting`].
 //!
+//! Under the granular law (`crate::granular_ledger`) the same terms hold with the
+//! law's stiffnesses (Hertz's normal spring, Mindlin's k_t a), the rolling and twisting
+//! springs are booked as the tangential one is, and two terms name what the law does
+//! without work: `softening` (a spring's energy changed by its stiffness following the
+//! contact radius, or by `mindlin_rescale`) and `lever` (the tangential force's arms
+//! R − δ/2 against the R its slip is read with). docs/architecture.md (*The energy
+//! ledger*) derives each.
+//!
 //! The pair pass computes the terms beside the forces, from the same values, in a
 //! version of the pass compiled for it ([`Tally`]): without the ledger the pass is the
 //! code it was, and with it the forces and the state are the same bit for bit.
@@ -42,30 +50,64 @@ use std::ops::AddAssign;
 pub struct LedgerRefused;
 
 /// Energy the pair contacts have dissipated since the ledger was started, and what their
-/// springs hold now (J per unit thickness).
+/// springs hold now (J per unit thickness). The rolling, twisting and non-work terms are
+/// the granular law's (zero under the linear law).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EnergyLedger {
     /// Work of the normal and tangential dashpots.
     pub damping: f64,
     /// Coulomb sliding.
     pub friction: f64,
-    /// Tangential springs dropped as their contacts opened.
+    /// Springs (tangential, rolling, twisting) dropped as their contacts opened.
     pub springs_released: f64,
-    /// ½K_n δ² of the touching pairs after the last pass.
+    /// ½K_n δ² of the touching pairs after the last pass (Hertz: (2/5) k_n a δ²).
     pub stored_normal: f64,
     /// ½K_t ξ² of the touching pairs after the last pass.
     pub stored_tangential: f64,
+    /// The tangential dashpot's share of `damping`.
+    pub damping_tangential: f64,
+    /// Work of the rolling dashpots.
+    pub rolling_damping: f64,
+    /// Sliding at the rolling caps.
+    pub rolling_friction: f64,
+    /// Work of the twisting dashpots.
+    pub twisting_damping: f64,
+    /// Sliding at the twisting caps.
+    pub twisting_friction: f64,
+    /// Energy the springs lost without work as the law changed their stiffness or
+    /// length (negative: gained; [`LedgerTerms::softening`]).
+    pub softening: f64,
+    /// Work the tangential forces did beyond the booked, taken as a loss
+    /// ([`LedgerTerms::lever`]).
+    pub lever: f64,
+    /// ½k_r |ξ_r|² of the touching pairs after the last pass.
+    pub stored_rolling: f64,
+    /// ½k_tw θ² of the touching pairs after the last pass.
+    pub stored_twisting: f64,
 }
 
 impl EnergyLedger {
-    /// Everything dissipated.
+    /// Everything the contacts took out of kinetic and stored energy: what they
+    /// dissipated ([`EnergyLedger::dissipated`]) and the law's changes without work
+    /// (`softening`, `lever`).
     pub fn total(&self) -> f64 {
-        self.damping + self.friction + self.springs_released
+        self.dissipated() + self.softening + self.lever
+    }
+
+    /// Everything dissipated: dashpots, Coulomb caps and dropped springs.
+    pub fn dissipated(&self) -> f64 {
+        self.damping
+            + self.friction
+            + self.springs_released
+            + self.rolling_damping
+            + self.rolling_friction
+            + self.twisting_damping
+            + self.twisting_friction
     }
 
     /// Energy stored in the pairs' springs.
     pub fn stored(&self) -> f64 {
-        self.stored_normal + self.stored_tangential
+        self.stored_normal + self.stored_tangential + self.stored_rolling + self.stored_twisting
     }
 
     /// A ledger started on `s`: nothing dissipated yet, its springs' energy stored;
@@ -81,38 +123,49 @@ impl EnergyLedger {
         for i in 0..p.len() {
             for e in list.row[i] as usize..list.row[i + 1] as usize {
                 let j = list.nbr[e] as usize;
-                let pp = setup
-                    .pairs
-                    .get(p.material[i] as usize, p.material[j] as usize);
+                let (mi, mj) = (p.material[i] as usize, p.material[j] as usize);
                 let dist = setup.domain.min_image(p.pos[j] - p.pos[i]).length();
                 let overlap = p.radius[i] + p.radius[j] - dist;
+                let Some(table) = &setup.granular else {
+                    let pp = setup.pairs.get(mi, mj);
+                    if overlap > 0.0 {
+                        l.stored_normal += 0.5 * pp.kn * overlap * overlap;
+                    }
+                    l.stored_tangential += list.shear[e].quad(0.5 * pp.kt);
+                    continue;
+                };
                 if overlap > 0.0 {
-                    l.stored_normal += 0.5 * pp.kn * overlap * overlap;
+                    let r_eff = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
+                    let h = list.granular(e).unwrap_or_default();
+                    let st = table.get(mi, mj).stored_split(overlap, r_eff, &h);
+                    l.stored_normal += st.normal;
+                    l.stored_tangential += st.tangential;
+                    l.stored_rolling += st.rolling;
+                    l.stored_twisting += st.twisting;
                 }
-                l.stored_tangential += list.shear[e].quad(0.5 * pp.kt);
             }
         }
         Ok(l)
-    }
-
-    /// The ledger of a run under a law that keeps none: every figure NaN.
-    pub fn refused() -> Self {
-        EnergyLedger {
-            damping: f64::NAN,
-            friction: f64::NAN,
-            springs_released: f64::NAN,
-            stored_normal: f64::NAN,
-            stored_tangential: f64::NAN,
-        }
     }
 
     /// Takes in one pair pass.
     pub(crate) fn record(&mut self, pass: &PassTally) {
         self.damping += pass.damping;
         self.friction += pass.friction;
-        self.springs_released += self.stored_tangential - pass.tangential_before;
+        self.springs_released += (self.stored_tangential - pass.tangential_before)
+            + (self.stored_rolling - pass.rolling_before)
+            + (self.stored_twisting - pass.twisting_before);
         self.stored_normal = pass.normal;
         self.stored_tangential = pass.tangential;
+        self.damping_tangential += pass.damping_tangential;
+        self.rolling_damping += pass.rolling_damping;
+        self.rolling_friction += pass.rolling_friction;
+        self.twisting_damping += pass.twisting_damping;
+        self.twisting_friction += pass.twisting_friction;
+        self.softening += pass.softening;
+        self.lever += pass.lever;
+        self.stored_rolling = pass.rolling;
+        self.stored_twisting = pass.twisting;
     }
 }
 
@@ -145,41 +198,77 @@ pub(crate) fn in_id_order<R: crate::comm::Reduce + ?Sized>(
         }
         return total;
     }
-    let mut words = Vec::with_capacity(6 * rows.len());
+    let mut words = Vec::with_capacity((1 + WORDS) * rows.len());
     for (i, r) in rows.iter().enumerate().filter(|&(i, _)| owns(i)) {
         words.push(id[i] as u64);
-        let terms = [
-            r.damping,
-            r.friction,
-            r.normal,
-            r.tangential,
-            r.tangential_before,
-        ];
-        words.extend(terms.map(f64::to_bits));
+        words.extend(r.words().map(f64::to_bits));
     }
     let words = reduce.gather(words);
-    let mut records: Vec<&[u64]> = words.chunks_exact(6).collect();
+    let mut records: Vec<&[u64]> = words.chunks_exact(1 + WORDS).collect();
     records.sort_unstable_by_key(|r| r[0]);
     for r in records {
-        let t = |k: usize| f64::from_bits(r[k]);
-        total += PassTally {
-            damping: t(1),
-            friction: t(2),
-            normal: t(3),
-            tangential: t(4),
-            tangential_before: t(5),
-        };
+        let mut w = [0.0; WORDS];
+        for (k, x) in w.iter_mut().enumerate() {
+            *x = f64::from_bits(r[1 + k]);
+        }
+        total += PassTally::from_words(w);
     }
     total
 }
 
+/// Numbers in one [`PassTally`].
+const WORDS: usize = 16;
+
+impl PassTally {
+    /// Its numbers in a fixed order.
+    fn words(&self) -> [f64; WORDS] {
+        [
+            self.damping,
+            self.friction,
+            self.normal,
+            self.tangential,
+            self.tangential_before,
+            self.damping_tangential,
+            self.rolling_damping,
+            self.rolling_friction,
+            self.twisting_damping,
+            self.twisting_friction,
+            self.rolling,
+            self.rolling_before,
+            self.twisting,
+            self.twisting_before,
+            self.softening,
+            self.lever,
+        ]
+    }
+
+    /// The tally of [`PassTally::words`].
+    fn from_words(w: [f64; WORDS]) -> Self {
+        PassTally {
+            damping: w[0],
+            friction: w[1],
+            normal: w[2],
+            tangential: w[3],
+            tangential_before: w[4],
+            damping_tangential: w[5],
+            rolling_damping: w[6],
+            rolling_friction: w[7],
+            twisting_damping: w[8],
+            twisting_friction: w[9],
+            rolling: w[10],
+            rolling_before: w[11],
+            twisting: w[12],
+            twisting_before: w[13],
+            softening: w[14],
+            lever: w[15],
+        }
+    }
+}
+
 impl AddAssign for PassTally {
     fn add_assign(&mut self, o: Self) {
-        self.damping += o.damping;
-        self.friction += o.friction;
-        self.normal += o.normal;
-        self.tangential += o.tangential;
-        self.tangential_before += o.tangential_before;
+        let (a, b) = (self.words(), o.words());
+        *self = PassTally::from_words(std::array::from_fn(|k| a[k] + b[k]));
     }
 }
 

@@ -26,6 +26,7 @@ pub mod diagnostics;
 pub mod domain;
 pub mod forces;
 pub mod granular;
+pub mod granular_ledger;
 pub mod granular_pass;
 pub mod history;
 pub mod insert;
