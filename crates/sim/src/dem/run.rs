@@ -176,7 +176,8 @@ pub fn open_on(
             &plan,
             resume.as_ref().map(|r| &r.progress.counters),
         )?;
-        let checks = CheckObserver::new(&sim, &s.checks);
+        let restitution = crate::law::dim2::resolve(&s.contact, &s.materials).map_err(input)?;
+        let checks = CheckObserver::new(&sim, &s.checks, restitution.restitution);
         // On a resumed run the analysis covers the new segment; `grains analyze RUN_DIR`
         // covers every frame.
         let dispersal = s.dispersal.as_ref().map(|d| {
