@@ -11,6 +11,11 @@ fn hertz_tsuji_mindlin_rolling_in_2d() {
 }
 
 #[test]
+fn three_disks_two_types_in_2d() {
+    check("f3_2d_three_disks_two_types");
+}
+
+#[test]
 fn hooke_viscoelastic_linear_history_rolling_in_2d() {
     check("f2_2d_hooke_visco_linhist");
 }

@@ -5,7 +5,8 @@
 // nve/sphere` does (half kick, drift, forces, half kick; I = 0.4 m R², 0.5 with `disc`
 // in 2D), the pair forces from `dem::granular::respond`. Every table row (x, v, ω, f, τ
 // of each atom) must agree with LAMMPS to 1e-10 of that field's largest magnitude in the
-// run; the 3D decks' history (tangential, rolling, twisting) too.
+// run; the history too (tangential, rolling, twisting; in 2D the springs' components
+// along t, LAMMPS's vectors having none along n or z).
 
 use dem::granular::{
     respond, Contact, Damping, GranularParams, Normal, Rolling, Tangential, WIDTH,
@@ -197,7 +198,7 @@ fn forces(d: &Deck, atoms: &mut [Atom], hist: &mut BTreeMap<(usize, usize), [f64
 }
 
 /// Replays `name` and returns the largest deviation from LAMMPS over the table, relative
-/// to each field's largest magnitude, and the largest history deviation (3D).
+/// to each field's largest magnitude, and the largest history deviation.
 fn replay(name: &str) -> (f64, f64) {
     let d = deck(name);
     let table = csv(dir().join("tables").join(format!("{name}.csv")));
@@ -278,6 +279,26 @@ fn replay(name: &str) -> (f64, f64) {
                     if k != TAN {
                         worst_h = worst_h.max((x - y).abs() / hscale);
                     }
+                }
+            }
+        } else {
+            for row in history.iter().filter(|r| r[0] == step as f64) {
+                let (i, j) = (row[1] as usize - 1, row[2] as usize - 1);
+                let h = hist.get(&(i, j)).expect("a contact LAMMPS has");
+                // LAMMPS keeps the springs as vectors in the xy plane; ours are their
+                // components along t = (−n_y, n_x), n from i to j. Columns: t0 t1 t2
+                // [a_prev] r0 r1 r2.
+                let n = Vector::flatten(&[(atoms[j].x - atoms[i].x).normalize()]);
+                let (t, normal) = ([-n[1], n[0]], [n[0], n[1]]);
+                let along = |at: usize, u: [f64; 2]| row[at] * u[0] + row[at + 1] * u[1];
+                let roll = if row.len() == 11 { 7 } else { 6 };
+                let mut pairs = vec![(h[0], along(3, t)), (0.0, along(3, normal)), (0.0, row[5])];
+                if row.len() > roll {
+                    let r = h[TAN + 1];
+                    pairs.extend([(r, along(roll, t)), (0.0, along(roll, normal)), (0.0, row[roll + 2])]);
+                }
+                for (x, y) in pairs {
+                    worst_h = worst_h.max((x - y).abs() / hscale);
                 }
             }
         }

@@ -461,7 +461,7 @@ fn ring_part(
             periodic: [false, false],
         },
         gravity: [0.0, 0.0],
-        contact: s.contact.clone(),
+        contact: (&s.contact).into(),
         materials: s.materials.clone(),
         particles: vec![source],
         walls: Vec::new(),

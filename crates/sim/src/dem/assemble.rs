@@ -5,7 +5,7 @@ use super::scenario::{CheckSpec, FigureSpec, ParticleSource, RadiusSpec, Scenari
 use glam::DVec2;
 use grains_core::input::{named_list, positive, time_step, InputError, Shown};
 use grains_core::rng;
-use grains_dem::{timestep, Domain, Particles, Setup, Wall};
+use grains_dem::{timestep, Domain, PairTable, Particles, Setup, Wall};
 use rand::RngExt;
 use std::path::Path;
 
@@ -165,26 +165,28 @@ pub fn assemble_with(
         }
         d.validate("dispersal", s.run.duration)?;
     }
-    let setup = Setup::new(
+    let laws = crate::law::dim2::resolve(&s.contact, &s.materials)?;
+    let mut setup = Setup::new(
         domain,
         s.materials.clone(),
-        s.contact.clone(),
+        laws.model,
         walls,
         DVec2::from(s.gravity),
         skin,
     )?;
+    setup.granular = laws.granular;
     let dt_critical = timestep::critical_dt(&setup, &particles);
     let dt = time_step(
         s.run.dt,
         s.run.safety,
         dt_critical,
-        "stiffest contact, lightest particle",
+        "Rayleigh time or stiffest contact, lightest particle",
     )?;
 
     check_inside(&setup, &particles)?;
     check_periodic(&setup, &particles)?;
     check_wall_overlaps(&setup, &particles)?;
-    check_references(s, &setup, &particles)?;
+    check_references(s, &setup, &particles, &laws.restitution)?;
     let steps = (s.run.duration / dt).ceil() as u64;
     Ok(Assembled {
         setup,
@@ -437,7 +439,12 @@ fn check_wall_overlaps(setup: &Setup, p: &Particles) -> Result<(), InputError> {
     Ok(())
 }
 
-fn check_references(s: &Scenario, setup: &Setup, p: &Particles) -> Result<(), InputError> {
+fn check_references(
+    s: &Scenario,
+    setup: &Setup,
+    p: &Particles,
+    restitution: &PairTable<Option<f64>>,
+) -> Result<(), InputError> {
     let n = p.len() as u32;
     let wall = |k: usize, name: &str| -> Result<(), InputError> {
         if setup.walls.iter().any(|w| w.name == name) {
@@ -471,6 +478,18 @@ fn check_references(s: &Scenario, setup: &Setup, p: &Particles) -> Result<(), In
                 "must be a finite number > 0",
             ));
         }
+        let linear_only = !matches!(
+            c,
+            CheckSpec::WallForceOverWeight { .. } | CheckSpec::Collision { .. }
+        );
+        if linear_only && setup.granular.is_some() {
+            // Their analytic values are the linear spring-dashpot's (π/ω_d, the pair's e).
+            return Err(InputError::new(
+                format!("check[{k}]"),
+                format!("\"{}\"", c.name()),
+                "only under the linear law (contact.model \"material\" or \"hooke_history\"); its value is the linear spring's",
+            ));
+        }
         match c {
             CheckSpec::Restitution { particles, .. } | CheckSpec::ContactTime { particles, .. } => {
                 particle(k, particles[0])?;
@@ -495,6 +514,24 @@ fn check_references(s: &Scenario, setup: &Setup, p: &Particles) -> Result<(), In
             } => {
                 particle(k, *id)?;
                 wall(k, w)?;
+            }
+            CheckSpec::Collision {
+                measure,
+                particle,
+                partner,
+                wall,
+                ..
+            } => {
+                crate::collision::dim2::validate(
+                    k,
+                    *measure,
+                    *particle,
+                    *partner,
+                    wall.as_deref(),
+                    setup,
+                    p,
+                    restitution,
+                )?;
             }
             CheckSpec::WallForceOverWeight { wall: w, .. } => {
                 wall(k, w)?;

@@ -1,13 +1,15 @@
 //! Recorders that watch a few particles during a run and turn what they saw into the
 //! scenario's checks: binary collisions (restitution, contact time) and wall impacts
-//! (rigid-body impulse theory). They only read the state.
+//! (rigid-body impulse theory) under the linear law; under the granular law the
+//! collision watch both dimensions share ([`crate::collision`]). They only read the state.
 
 use super::scenario::CheckSpec;
 use super::Dem;
+use crate::collision::dim2::Watch;
 use crate::driver::{Observer, Report, Status};
 use glam::DVec2;
 use grains_core::checks::Check;
-use grains_dem::{Setup, State};
+use grains_dem::{PairTable, Setup, State};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 enum Phase {
@@ -48,6 +50,10 @@ pub struct Probes {
     collisions: Vec<Collision>,
     impacts: Vec<Impact>,
     builds_seen: u64,
+    /// The collision watch of each check (`None` for other kinds; a checkpoint's TOML has
+    /// no null, so a list of at most one).
+    #[serde(default)]
+    watches: Vec<Vec<Watch>>,
 }
 
 fn zero_crossing(t0: f64, o0: f64, t1: f64, o1: f64) -> f64 {
@@ -98,7 +104,7 @@ impl Probes {
                         });
                     }
                 }
-                CheckSpec::WallForceOverWeight { .. } => {}
+                CheckSpec::WallForceOverWeight { .. } | CheckSpec::Collision { .. } => {}
             }
         }
         p.builds_seen = u64::MAX;
@@ -107,13 +113,16 @@ impl Probes {
 
     /// True when nothing needs watching step by step.
     pub fn is_empty(&self) -> bool {
-        self.collisions.is_empty() && self.impacts.is_empty()
+        self.collisions.is_empty() && self.impacts.is_empty() && self.watches.is_empty()
     }
 
     /// Looks at the state after a step.
     pub fn observe(&mut self, setup: &Setup, s: &State) {
         if self.is_empty() {
             return;
+        }
+        for w in self.watches.iter_mut().flatten() {
+            w.step(setup, s);
         }
         let p = &s.particles;
         if self.builds_seen != s.contacts.builds {
@@ -170,10 +179,16 @@ impl Probes {
     }
 
     /// Turns the recordings into checks, in the order the scenario lists them.
-    pub fn checks(&self, setup: &Setup, s: &State, specs: &[CheckSpec]) -> Vec<Check> {
+    pub fn checks(
+        &self,
+        setup: &Setup,
+        s: &State,
+        specs: &[CheckSpec],
+        restitution: &PairTable<Option<f64>>,
+    ) -> Vec<Check> {
         let p = &s.particles;
         let mut out = Vec::new();
-        for spec in specs {
+        for (k, spec) in specs.iter().enumerate() {
             let (name, tol) = (spec.name(), spec.tolerance());
             match spec {
                 CheckSpec::Restitution { particles, .. }
@@ -235,6 +250,13 @@ impl Probes {
                     }
                     out.push(check);
                 }
+                CheckSpec::Collision { measure, .. } => {
+                    out.push(match self.watches.get(k).and_then(|w| w.first()) {
+                        Some(w) => w.check(name, *measure, tol, setup, p, restitution),
+                        None => Check::relative(name, f64::NAN, 1.0, tol)
+                            .with_note("the particle has no partner"),
+                    });
+                }
                 CheckSpec::WallForceOverWeight { wall, .. } => {
                     let w = setup
                         .walls
@@ -258,16 +280,42 @@ pub struct CheckObserver {
     pub probes: Probes,
     /// The checks, in the scenario's order.
     pub specs: Vec<CheckSpec>,
+    /// The restitution each pair's law is built for, where it takes one.
+    pub restitution: PairTable<Option<f64>>,
 }
 
 impl CheckObserver {
-    /// Recorders for `specs`, having seen the initial state.
-    pub fn new(sim: &Dem, specs: &[CheckSpec]) -> Self {
+    /// Recorders for `specs`, having seen the initial state, `restitution` each pair's
+    /// target.
+    pub fn new(sim: &Dem, specs: &[CheckSpec], restitution: PairTable<Option<f64>>) -> Self {
         let mut probes = Probes::new(&sim.setup, specs);
+        if specs
+            .iter()
+            .any(|c| matches!(c, CheckSpec::Collision { .. }))
+        {
+            probes.watches = specs
+                .iter()
+                .map(|c| match c {
+                    CheckSpec::Collision {
+                        particle,
+                        partner,
+                        wall,
+                        ..
+                    } => {
+                        let (setup, state) = (&sim.setup, &sim.state);
+                        Watch::of(setup, state, *particle, *partner, wall.as_deref())
+                            .into_iter()
+                            .collect()
+                    }
+                    _ => Vec::new(),
+                })
+                .collect();
+        }
         probes.observe(&sim.setup, &sim.state);
         CheckObserver {
             probes,
             specs: specs.to_vec(),
+            restitution,
         }
     }
 }
@@ -278,9 +326,12 @@ impl Observer<Dem> for CheckObserver {
     }
 
     fn on_end(&mut self, sim: &Dem, _status: &Status, report: &mut Report) -> anyhow::Result<()> {
-        report
-            .checks
-            .extend(self.probes.checks(&sim.setup, &sim.state, &self.specs));
+        report.checks.extend(self.probes.checks(
+            &sim.setup,
+            &sim.state,
+            &self.specs,
+            &self.restitution,
+        ));
         Ok(())
     }
 

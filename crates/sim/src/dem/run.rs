@@ -205,7 +205,10 @@ pub fn open_on(
     };
     let (history, frames, counters) = agreed(&sim, started)?;
     let writers = if let Some(frames) = frames {
-        let checks = CheckObserver::new(&sim, &s.checks);
+        // The law was resolved (and refused where bad) when the run was assembled, on
+        // every rank alike: it cannot fail here, on rank 0 alone.
+        let restitution = crate::law::dim2::resolve(&s.contact, &s.materials).map_err(input)?;
+        let checks = CheckObserver::new(&sim, &s.checks, restitution.restitution);
         // On a resumed run the analysis covers the new segment; `grains analyze RUN_DIR`
         // covers every frame.
         let dispersal = s.dispersal.as_ref().map(|d| {

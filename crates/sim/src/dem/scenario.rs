@@ -1,7 +1,7 @@
 //! The scenario file: what a user writes to describe a DEM run, parsed strictly
 //! (`deny_unknown_fields` everywhere) and reported with one-line errors.
 
-use grains_dem::{ContactModel, Material, WallShape};
+use grains_dem::{Material, WallShape};
 use serde::{Deserialize, Serialize};
 
 /// A whole scenario file.
@@ -24,9 +24,10 @@ pub struct Scenario {
     /// Gravitational acceleration (m/s²).
     #[serde(default)]
     pub gravity: [f64; 2],
-    /// Contact model (default: derived from the materials).
-    #[serde(default)]
-    pub contact: ContactModel,
+    /// The contact law of every pair, and the pairs that have their own (3D's keys but
+    /// twisting; default: the material route, the law derived from the materials).
+    #[serde(default = "crate::law::dim2::material_law")]
+    pub contact: crate::law::dim2::LawSpec,
     /// Materials, referred to by name.
     #[serde(rename = "material")]
     pub materials: Vec<Material>,
@@ -349,6 +350,24 @@ pub enum CheckSpec {
         /// Relative tolerance.
         tolerance: f64,
     },
+    /// The first collision of `particle` with `partner` (another particle) or `wall`
+    /// under the granular law, as in 3D ([`crate::collision`]).
+    Collision {
+        /// Check name.
+        name: String,
+        /// What is measured.
+        measure: crate::collision::Measure,
+        /// The particle (creation order, from 0).
+        particle: u32,
+        /// The other particle.
+        #[serde(default)]
+        partner: Option<u32>,
+        /// Or the wall.
+        #[serde(default)]
+        wall: Option<String>,
+        /// Relative tolerance.
+        tolerance: f64,
+    },
 }
 
 impl CheckSpec {
@@ -359,7 +378,8 @@ impl CheckSpec {
             | CheckSpec::ContactTime { name, .. }
             | CheckSpec::ImpactTangentialVelocity { name, .. }
             | CheckSpec::ImpactAngularVelocity { name, .. }
-            | CheckSpec::WallForceOverWeight { name, .. } => name,
+            | CheckSpec::WallForceOverWeight { name, .. }
+            | CheckSpec::Collision { name, .. } => name,
         }
     }
 
@@ -370,7 +390,8 @@ impl CheckSpec {
             | CheckSpec::ContactTime { tolerance, .. }
             | CheckSpec::ImpactTangentialVelocity { tolerance, .. }
             | CheckSpec::ImpactAngularVelocity { tolerance, .. }
-            | CheckSpec::WallForceOverWeight { tolerance, .. } => *tolerance,
+            | CheckSpec::WallForceOverWeight { tolerance, .. }
+            | CheckSpec::Collision { tolerance, .. } => *tolerance,
         }
     }
 }

@@ -1,14 +1,13 @@
 //! A 3D scenario validated and assembled into the engine's set-up; nothing is written,
 //! so a scenario that fails leaves no output behind.
 
-use super::law::resolve;
 use super::pour::Pour;
-use super::scenario::{CheckSpec, Measure, RegionSpec, Scenario, SphereSource};
+use super::scenario::{CheckSpec, RegionSpec, Scenario, SphereSource};
 use crate::dem::assemble::{lattice_values, sphere_values};
+use crate::law::dim3::resolve;
 use glam::DVec3;
 use grains_core::input::{named_list, positive, time_step, InputError, Shown};
 use grains_core::rng;
-use grains_dem3d::granular::Normal;
 use grains_dem3d::{timestep, Domain, PairTable, Particles, Setup};
 use rand::RngExt;
 use std::collections::HashMap;
@@ -487,53 +486,16 @@ fn checks(
                 wall,
                 ..
             } => {
-                for id in std::iter::once(particle).chain(partner) {
-                    if *id >= n {
-                        return Err(InputError::new(
-                            format!("check[{k}].particle"),
-                            id,
-                            format!("must be a particle id in 0..{n}"),
-                        ));
-                    }
-                }
-                let mi = p.material[*particle as usize] as usize;
-                let mj = match (partner, wall) {
-                    (Some(j), None) if j != particle => p.material[*j as usize] as usize,
-                    (None, Some(w)) => {
-                        let w = wall_index(k, w)?;
-                        setup.walls[w].material.map_or(mi, |m| m as usize)
-                    }
-                    _ => {
-                        return Err(InputError::new(
-                            format!("check[{k}]"),
-                            format!("partner = {partner:?}, wall = {wall:?}"),
-                            "exactly one of partner (another particle) and wall",
-                        ))
-                    }
-                };
-                let hertz = setup
-                    .granular
-                    .as_ref()
-                    .is_some_and(|t| t.get(mi, mj).normal == Normal::HertzMaterial);
-                let needs = match measure {
-                    Measure::MaxOverlap | Measure::PeakForce | Measure::ContactTime if !hertz => {
-                        Some("a hertz/material law for the pair (the values are Hertz's)")
-                    }
-                    Measure::Restitution if e.get(mi, mj).is_none() => {
-                        Some("a damping given by restitution (tsuji or restitution) for the pair")
-                    }
-                    Measure::TangentialVelocity | Measure::AngularVelocity if wall.is_none() || setup.granular.is_none() => {
-                        Some("a wall and the granular law (the rigid-body limit of a sphere on a wall)")
-                    }
-                    _ => None,
-                };
-                if let Some(why) = needs {
-                    return Err(InputError::new(
-                        format!("check[{k}].measure"),
-                        format!("{measure:?}"),
-                        format!("needs {why}"),
-                    ));
-                }
+                crate::collision::dim3::validate(
+                    k,
+                    *measure,
+                    *particle,
+                    *partner,
+                    wall.as_deref(),
+                    setup,
+                    p,
+                    e,
+                )?;
             }
             CheckSpec::FinalVelocity {
                 particle,

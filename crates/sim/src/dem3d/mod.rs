@@ -1,5 +1,5 @@
 //! 3D DEM runs (`engine = "dem"` with `dim = 3`): spheres in [`grains_dem3d`], from the
-//! scenario ([`scenario`], in the 2D scenario's style) through its assembly ([`law`],
+//! scenario ([`scenario`], in the 2D scenario's style) through its assembly ([`crate::law`],
 //! [`assemble`]) to the [`Dem3`] simulation, its checks ([`probes`]), frames and plots
 //! ([`output`]) and its run ([`run`]). The driver, history, frame recorder, summary and
 //! the run contract are the ones every engine uses.
@@ -7,7 +7,6 @@
 pub mod assemble;
 pub mod collapse;
 pub mod drum;
-pub mod law;
 pub mod output;
 pub mod packing;
 pub mod pour;

@@ -1,82 +1,19 @@
-//! The 3D scenario's checks: each collision check watches its particle's first impact
-//! on its partner (a particle or a wall) every step, timing contact by the zero
-//! crossings of the gap interpolated within the step; at the end each is set against
-//! Hertz's undamped impact, the pair's restitution or the rigid-body sliding limit.
-//!
-//! Hertz (E* and R* of the pair, R* = R and m* = m on a wall, v the approach speed):
-//! δ_max = (15 m* v² / (16 E* √R*))^{2/5}, F_max = (4/3) E* √R* δ_max^{3/2},
-//! t_c = 2 · (2/5) B(2/5, 1/2) δ_max / v = 2.94328 δ_max / v (= 2.868 (m*² / (R* E*² v))^{1/5}).
-//! Sliding throughout an impact on a wall: v_t' = v_t − μ(1 + e) v_n and
-//! ω' R = μ (1 + e) v_n / K (K = I / m R², e measured).
+//! The 3D scenario's checks: collisions (the watch both dimensions share,
+//! [`crate::collision`]), the load on a wall, drums, silos, pours and collapses.
 
 use super::collapse::{lube, RunoutWatch};
 use super::drum::DrumWatch;
-use super::scenario::{CheckSpec, Measure};
+use super::scenario::CheckSpec;
 use super::silo::{beverloo, orifice, DischargeWatch};
 use super::Dem3;
+use crate::collision::dim3::Watch;
 use crate::driver::{Flow, Observer, Report, Status};
 use glam::DVec3;
 use grains_core::checks::Check;
 use grains_dem3d::diagnostics::index_of;
 use grains_dem3d::diagnostics::Diagnostics;
-use grains_dem3d::{PairTable, Setup, State};
+use grains_dem3d::PairTable;
 use serde::{Deserialize, Serialize};
-
-/// t_c v / δ_max of an undamped Hertz impact: 2 ∫₀¹ (1 − x^{5/2})^{−1/2} dx.
-pub const HERTZ_TIME: f64 = 2.943_275_184_324_705;
-
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-enum Phase {
-    Before,
-    In,
-    After,
-}
-
-/// One collision, as it went.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-struct Impact {
-    phase: Phase,
-    gap: f64,
-    time: f64,
-    /// Unit normal from the particle towards its partner, at first contact.
-    normal: DVec3,
-    /// Relative velocity before and after.
-    before: DVec3,
-    after: DVec3,
-    omega_after: DVec3,
-    t_in: f64,
-    t_out: f64,
-    overlap: f64,
-    force: f64,
-}
-
-/// The geometry of a collision now: (gap, unit normal towards the partner, relative
-/// velocity).
-fn geometry(setup: &Setup, s: &State, i: usize, partner: Partner) -> Option<(f64, DVec3, DVec3)> {
-    let p = &s.particles;
-    match partner {
-        Partner::Particle(id) => {
-            let j = index_of(p, id)?;
-            let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
-            let dist = d.length();
-            Some((
-                dist - p.radius[i] - p.radius[j],
-                d / dist,
-                p.vel[i] - p.vel[j],
-            ))
-        }
-        Partner::Wall(w) => {
-            let t = setup.walls[w].shape.nearest(p.pos[i])?;
-            Some((t.distance - p.radius[i], t.normal, p.vel[i]))
-        }
-    }
-}
-
-#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
-enum Partner {
-    Particle(u32),
-    Wall(usize),
-}
 
 /// What a checkpoint keeps of the probes, one list per check (empty for none).
 #[derive(Serialize, Deserialize)]
@@ -92,7 +29,7 @@ struct Saved<I, D, S, C> {
 /// Watches the scenario's checks.
 pub struct Probes {
     specs: Vec<CheckSpec>,
-    impacts: Vec<Option<(u32, Partner, Impact)>>,
+    impacts: Vec<Option<Watch>>,
     drums: Vec<Option<DrumWatch>>,
     silos: Vec<Option<DischargeWatch>>,
     columns: Vec<Option<RunoutWatch>>,
@@ -110,38 +47,7 @@ impl Probes {
                     partner,
                     wall,
                     ..
-                } => {
-                    let to = match (partner, wall) {
-                        (Some(j), _) => Partner::Particle(*j),
-                        (None, w) => Partner::Wall(
-                            sim.setup
-                                .walls
-                                .iter()
-                                .position(|x| Some(&x.name) == w.as_ref())
-                                .unwrap_or(0),
-                        ),
-                    };
-                    let (gap, normal, v) = geometry(
-                        &sim.setup,
-                        &sim.state,
-                        index_of(&sim.state.particles, *particle)?,
-                        to,
-                    )?;
-                    let impact = Impact {
-                        phase: if gap < 0.0 { Phase::In } else { Phase::Before },
-                        gap,
-                        time: sim.state.time,
-                        normal,
-                        before: v,
-                        after: v,
-                        omega_after: DVec3::ZERO,
-                        t_in: sim.state.time,
-                        t_out: f64::NAN,
-                        overlap: 0.0,
-                        force: 0.0,
-                    };
-                    Some((*particle, to, impact))
-                }
+                } => Watch::of(&sim.setup, &sim.state, *particle, *partner, wall.as_deref()),
                 _ => None,
             })
             .collect();
@@ -203,38 +109,8 @@ fn load_over_weight(sim: &Dem3, wall: &str) -> f64 {
 
 impl Observer<Dem3> for Probes {
     fn on_step(&mut self, sim: &Dem3) {
-        let s = &sim.state;
-        for slot in self.impacts.iter_mut() {
-            let Some((id, partner, m)) = slot else {
-                continue;
-            };
-            if m.phase == Phase::After {
-                continue;
-            }
-            let Some(i) = index_of(&s.particles, *id) else {
-                continue;
-            };
-            let Some((gap, normal, v)) = geometry(&sim.setup, s, i, *partner) else {
-                continue;
-            };
-            // Where the gap crossed zero within the step just taken.
-            let crossing = m.time + (s.time - m.time) * m.gap / (m.gap - gap);
-            match m.phase {
-                Phase::Before if gap < 0.0 => {
-                    (m.phase, m.t_in, m.normal) = (Phase::In, crossing, normal);
-                }
-                Phase::Before => m.before = v,
-                Phase::In if gap >= 0.0 => {
-                    (m.phase, m.t_out, m.after) = (Phase::After, crossing, v);
-                    m.omega_after = s.particles.omega[i];
-                }
-                _ => {}
-            }
-            if m.phase == Phase::In {
-                m.overlap = m.overlap.max(-gap);
-                m.force = m.force.max(s.particles.force[i].length());
-            }
-            (m.gap, m.time) = (gap, s.time);
+        for w in self.impacts.iter_mut().flatten() {
+            w.step(&sim.setup, &sim.state);
         }
     }
 
@@ -267,8 +143,7 @@ impl Observer<Dem3> for Probes {
     }
 
     fn restore(&mut self, state: toml::Value) -> anyhow::Result<()> {
-        let saved: Saved<(u32, Partner, Impact), DrumWatch, DischargeWatch, RunoutWatch> =
-            state.try_into()?;
+        let saved: Saved<Watch, DrumWatch, DischargeWatch, RunoutWatch> = state.try_into()?;
         fn slots<T>(
             what: &str,
             saved: Vec<Vec<T>>,
@@ -297,63 +172,8 @@ impl Observer<Dem3> for Probes {
         for (k, (spec, slot)) in self.specs.iter().zip(&self.impacts).enumerate() {
             let (name, tol) = (spec.name(), spec.tolerance().unwrap_or(0.0));
             let check = match (spec, slot) {
-                (CheckSpec::Collision { measure, .. }, Some((id, partner, m))) => {
-                    let i = index_of(p, *id).expect("ids stay");
-                    let mi = p.material[i] as usize;
-                    let (mj, r_eff, m_eff) = match *partner {
-                        Partner::Particle(jd) => {
-                            let j = index_of(p, jd).expect("ids stay");
-                            let (ri, rj) = (p.radius[i], p.radius[j]);
-                            (
-                                p.material[j] as usize,
-                                ri * rj / (ri + rj),
-                                1.0 / (p.inv_mass[i] + p.inv_mass[j]),
-                            )
-                        }
-                        Partner::Wall(w) => (
-                            setup.walls[w].material.map_or(mi, |k| k as usize),
-                            p.radius[i],
-                            p.mass(i),
-                        ),
-                    };
-                    let n = m.normal;
-                    let vn = m.before.dot(n);
-                    let e = -m.after.dot(n) / vn;
-                    let (measured, expected) = match measure {
-                        Measure::MaxOverlap | Measure::PeakForce | Measure::ContactTime => {
-                            let e_star =
-                                0.75 * setup.granular.as_ref().expect("validated").get(mi, mj).kn;
-                            let delta =
-                                (15.0 * m_eff * vn * vn / (16.0 * e_star * r_eff.sqrt())).powf(0.4);
-                            match measure {
-                                Measure::MaxOverlap => (m.overlap, delta),
-                                Measure::PeakForce => {
-                                    (m.force, 4.0 / 3.0 * e_star * r_eff.sqrt() * delta.powf(1.5))
-                                }
-                                _ => (m.t_out - m.t_in, HERTZ_TIME * delta / vn),
-                            }
-                        }
-                        Measure::Restitution => {
-                            (e, self.restitution.get(mi, mj).unwrap_or(f64::NAN))
-                        }
-                        Measure::TangentialVelocity | Measure::AngularVelocity => {
-                            let mu = setup.granular.as_ref().expect("validated").get(mi, mj).mu;
-                            let impulse = mu * (1.0 + e) * vn;
-                            let tangential = |v: DVec3| (v - v.dot(n) * n).length();
-                            if *measure == Measure::TangentialVelocity {
-                                (tangential(m.after), tangential(m.before) - impulse)
-                            } else {
-                                let k = setup.materials[mi].inertia_factor;
-                                (m.omega_after.length() * p.radius[i], impulse / k)
-                            }
-                        }
-                    };
-                    let c = Check::relative(name, measured, expected, tol);
-                    if m.phase == Phase::After {
-                        c
-                    } else {
-                        c.with_note("the collision did not end within the run")
-                    }
+                (CheckSpec::Collision { measure, .. }, Some(w)) => {
+                    w.check(name, *measure, tol, setup, p, &self.restitution)
                 }
                 (CheckSpec::WallForceOverWeight { wall, .. }, _) => {
                     Check::relative(name, load_over_weight(sim, wall), 1.0, tol)

@@ -126,3 +126,20 @@ deck("f2_2d_hooke_visco_linhist", "(f2) 2D disks: hooke + viscoelastic + linear_
      2, two2d, 1, "pair_style granular\npair_coeff * * hooke 1000.0 1.0e5 damping viscoelastic tangential linear_history 285.0 0.5 0.1 rolling sds 200.0 0.005 0.3",
      500, 2e-5, extra="fix twod all enforce2d\n")
 print("decks written to", os.path.abspath(DECKS))
+
+# Three disks in 2D, two types, the row 1-3-2 of (d) in the xy plane: both mixed-type
+# contacts load disk 3 together, with sliding and rolling slip (no twisting: a disk has none).
+U1d = [v / math.sqrt(1 + 0.02**2) for v in (1.0, -0.02)]
+U2d = [v / math.sqrt(1 + 0.05**2) for v in (1.0, 0.05)]
+three2d = [
+    (1, 1, 2 * R1, RHO, -D3 * U1d[0], -D3 * U1d[1], 0.0, 0.3, 0.02, 0.0, 0.0, 0.0, 20.0),
+    (2, 1, 2 * R1, RHO, D3 * U2d[0], D3 * U2d[1], 0.0, -0.3, 0.0, 0.0, 0.0, 0.0, -15.0),
+    (3, 2, 2 * R2, 3000.0, 0.0, 0.0, 0.0, 0.0, 0.01, 0.0, 0.0, 0.0, 10.0),
+]
+deck("f3_2d_three_disks_two_types", "(f3) 2D: three disks in a row, two types, explicit 1-2 coefficients, hertz/material + tsuji + mindlin + sds",
+     2, three2d, 2,
+     "pair_style granular\n"
+     f"pair_coeff 1 1 {HM} tangential mindlin NULL 1.0 0.1 rolling sds 1000.0 0.01 0.3\n"
+     "pair_coeff 2 2 hertz/material 2.0e7 0.7 0.25 damping tsuji tangential mindlin NULL 0.5 0.2 rolling sds 2000.0 0.02 0.4\n"
+     "pair_coeff 1 2 hertz/material 1.5e7 0.6 0.28 damping tsuji tangential mindlin NULL 0.7 0.15 rolling sds 1500.0 0.015 0.35",
+     500, 1e-5, extra="fix twod all enforce2d\n")

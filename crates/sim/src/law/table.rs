@@ -1,15 +1,16 @@
 //! The contact law of each material pair from the scenario's `[contact]` table (LAMMPS's
-//! keywords), validated: either the linear law for every pair (the engine's
-//! `hooke_history` kernel), or a table of granular laws in which a `hooke_history` pair
-//! becomes LAMMPS `granular hooke … mass_velocity … linear_history`.
+//! keywords), validated: either one linear law for every pair (the engine's kernel: the
+//! material route in 2D, or `hooke_history`), or a table of granular laws in which a
+//! `hooke_history` pair becomes LAMMPS `granular hooke … mass_velocity … linear_history`.
 
-use super::scenario::{LawModel, LawSpec, NormalSpec};
-use grains_core::input::{positive, InputError};
-use grains_dem3d::granular::{
+use super::engine::granular::{
     effective_shear, effective_youngs, tsuji_alpha, Damping, GranularParams, Normal, Rolling,
     Tangential,
 };
-use grains_dem3d::{ContactModel, Material, PairTable};
+use super::engine::math::DIM;
+use super::engine::{ContactModel, Material, PairTable};
+use super::spec::{LawModel, LawSpec, NormalSpec};
+use grains_core::input::{positive, InputError};
 
 /// The laws of a scenario.
 pub struct Laws {
@@ -52,16 +53,32 @@ fn law_of<'a>(c: &'a LawSpec, a: &str, b: &str) -> (&'a LawSpec, String) {
     (c, "contact".into())
 }
 
+/// The model of the table `l` (written under `key`), one this dimension offers.
+fn model_of(l: &LawSpec, key: &str) -> Result<LawModel, InputError> {
+    let allowed = if DIM == 2 {
+        "one of \"material\", \"hooke_history\", \"granular\""
+    } else {
+        "one of \"hooke_history\", \"granular\" (\"material\" is 2D's)"
+    };
+    match l.model {
+        None => Err(InputError::new(
+            format!("{key}.model"),
+            "(missing)",
+            allowed,
+        )),
+        Some(LawModel::Material) if DIM != 2 => Err(InputError::new(
+            format!("{key}.model"),
+            "\"material\"",
+            allowed,
+        )),
+        Some(m) => Ok(m),
+    }
+}
+
 /// Checks the table's shape: a model everywhere, `materials` only on pairs (naming
 /// materials, each pair once), no pairs within pairs.
 fn validate_shape(c: &LawSpec, materials: &[Material]) -> Result<(), InputError> {
-    if c.model.is_none() {
-        return Err(InputError::new(
-            "contact.model",
-            "(missing)",
-            "one of \"hooke_history\", \"granular\"",
-        ));
-    }
+    model_of(c, "contact")?;
     absent(
         "contact.materials",
         &c.materials,
@@ -86,11 +103,11 @@ fn validate_shape(c: &LawSpec, materials: &[Material]) -> Result<(), InputError>
                 ));
             }
         }
-        if p.model.is_none() {
+        if model_of(p, &key)? == LawModel::Material {
             return Err(InputError::new(
                 format!("{key}.model"),
-                "(missing)",
-                "one of \"hooke_history\", \"granular\"",
+                "\"material\"",
+                "one of \"hooke_history\", \"granular\" (the material route is one law for every pair)",
             ));
         }
         if !p.pair.is_empty() {
@@ -248,7 +265,7 @@ fn granular(
         let alpha = if damping == Damping::Tsuji {
             tsuji_alpha(e)
         } else {
-            grains_dem3d::restitution::alpha(normal, e)
+            super::engine::restitution::alpha(normal, e)
         };
         (alpha, Some(e))
     } else {
@@ -313,6 +330,13 @@ fn granular(
     };
     let twisting = match l.twisting.as_deref() {
         None => false,
+        Some("marshall") if DIM == 2 => {
+            return Err(InputError::new(
+                k("twisting"),
+                "\"marshall\"",
+                "not in 2D: a disk turns only about z, so it has no twist (3D scenarios only)",
+            ));
+        }
         Some("marshall") => true,
         Some(other) => {
             return Err(InputError::new(
@@ -352,10 +376,55 @@ fn placeholder() -> ContactModel {
     }
 }
 
+/// The material route (2D): its one key `limit_damping`; the engine's set-up checks
+/// that the materials give what it derives the law from.
+fn material_route(c: &LawSpec, n: usize) -> Result<Laws, InputError> {
+    let not = "of model \"material\" (the law comes from the materials)";
+    let k = |f: &str| format!("contact.{f}");
+    for (f, v) in [
+        ("kn", c.kn),
+        ("kt", c.kt),
+        ("gamma_n", c.gamma_n),
+        ("gamma_t", c.gamma_t),
+        ("mu", c.mu),
+        ("damp", c.damp),
+        ("restitution", c.restitution),
+        ("x_gamma_t", c.x_gamma_t),
+        ("kr", c.kr),
+        ("gamma_r", c.gamma_r),
+        ("mu_r", c.mu_r),
+    ] {
+        absent(&k(f), &v, not)?;
+    }
+    absent(&k("normal"), &c.normal, not)?;
+    absent(&k("damping"), &c.damping, not)?;
+    absent(&k("tangential"), &c.tangential, not)?;
+    absent(&k("rolling"), &c.rolling, not)?;
+    absent(&k("twisting"), &c.twisting, not)?;
+    absent(&k("materials"), &c.materials, not)?;
+    if !c.pair.is_empty() {
+        return Err(InputError::new(
+            "contact.pair",
+            "(given)",
+            "not beside model \"material\" (one law for every pair); give model \"granular\" or \"hooke_history\" to set pairs",
+        ));
+    }
+    Ok(Laws {
+        model: ContactModel::Material {
+            limit_damping: c.limit_damping,
+        },
+        granular: None,
+        restitution: PairTable::from_fn(n, |_, _| None),
+    })
+}
+
 /// Resolves every pair's law.
 pub fn resolve(c: &LawSpec, materials: &[Material]) -> Result<Laws, InputError> {
+    if c.model == Some(LawModel::Material) && DIM == 2 {
+        return material_route(c, materials.len());
+    }
     // The materials' own ranges first, so that an error names the material's key.
-    grains_dem3d::setup::validate_materials(&placeholder(), materials)?;
+    super::engine::setup::validate_materials(&placeholder(), materials)?;
     validate_shape(c, materials)?;
     let n = materials.len();
     if c.pair.is_empty() && c.model == Some(LawModel::HookeHistory) {
