@@ -1,5 +1,5 @@
-//! Our own VTK XML writer (`.vtp` poly data, `.vtu` unstructured grids, `.vts`
-//! structured grids) with
+//! Our own VTK XML writer (`.vtp` poly data and its `.pvtp` index over pieces, `.vtu`
+//! unstructured grids, `.vts` structured grids) with
 //! raw appended binary data, and a reader for the same files.
 //!
 //! Files are `version="1.0"`, `header_type="UInt64"`, little endian: each
@@ -12,12 +12,14 @@
 
 mod appended;
 mod data;
+mod parallel;
 mod polydata;
 mod reader;
 mod structured;
 mod unstructured;
 
 pub use data::{ArrayData, DataArray};
+pub use parallel::{check_pvtp, read_pvtp, Declared, ParallelIndex};
 pub use polydata::PolyData;
 pub use reader::{find_array, read_appended_arrays, ReadArray};
 pub use structured::StructuredGrid;

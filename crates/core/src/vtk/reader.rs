@@ -42,9 +42,31 @@ pub fn read_appended_arrays(path: &Path) -> io::Result<Vec<ReadArray>> {
     let header =
         std::str::from_utf8(header).map_err(|_| invalid("VTK XML header is not UTF-8".into()))?;
 
-    let mut stack: Vec<String> = Vec::new();
     let mut out = Vec::new();
-    for tag in tags(header)? {
+    each_open(header, |name, attrs, section| {
+        if name == "VTKFile" {
+            check_file_attrs(attrs)?;
+        } else if name == "AppendedData" && attr(attrs, "encoding") != Some("raw") {
+            return Err(invalid("only raw appended data is supported".into()));
+        }
+        if name == "DataArray" {
+            out.push(read_array(section.to_string(), attrs, data)?);
+        }
+        Ok(())
+    })?;
+    Ok(out)
+}
+
+/// Calls `f` on each opening tag of `text` with its name, attributes and the name of
+/// the element enclosing it (empty at the top); closing tags must match. Returns how
+/// many elements are still open at the end (a header cut at its appended data has
+/// some).
+pub(crate) fn each_open(
+    text: &str,
+    mut f: impl FnMut(&str, &[(String, String)], &str) -> io::Result<()>,
+) -> io::Result<usize> {
+    let mut stack: Vec<String> = Vec::new();
+    for tag in tags(text)? {
         match tag {
             Tag::Close { name } => {
                 if stack.pop().as_deref() != Some(name.as_str()) {
@@ -57,22 +79,14 @@ pub fn read_appended_arrays(path: &Path) -> io::Result<Vec<ReadArray>> {
                 self_closing,
                 ..
             } => {
-                if name == "VTKFile" {
-                    check_file_attrs(&attrs)?;
-                } else if name == "AppendedData" && attr(&attrs, "encoding") != Some("raw") {
-                    return Err(invalid("only raw appended data is supported".into()));
-                }
-                if name == "DataArray" {
-                    let section = stack.last().cloned().unwrap_or_default();
-                    out.push(read_array(section, &attrs, data)?);
-                }
+                f(&name, &attrs, stack.last().map_or("", String::as_str))?;
                 if !self_closing {
                     stack.push(name);
                 }
             }
         }
     }
-    Ok(out)
+    Ok(stack.len())
 }
 
 /// Splits the file at the `_` marker of `<AppendedData>`: XML before,
