@@ -76,6 +76,12 @@ pub trait Simulation: Send {
     /// and at the end: a run spread over ranks gathers it on rank 0 there (so every rank
     /// calls this at the same steps), not at every step.
     fn gather(&mut self) {}
+    /// Whether the observers of a frame of `kind` read the whole state, so that a run
+    /// spread over ranks gathers it before that frame; not when its ranks write their
+    /// own pieces of the frame.
+    fn frame_reads_whole(&self, _kind: FrameKind) -> bool {
+        true
+    }
     /// Whether `flag` holds on any rank of a run spread over ranks (every rank calls
     /// this at the same steps); on one rank, `flag` itself.
     fn agree(&self, flag: bool) -> bool {
@@ -480,16 +486,19 @@ impl Stepper {
             counters.snapshots_done += 1;
             snapped = true;
         }
-        let gathered = snapped || regular;
+        let kind = match (snapped, regular) {
+            (true, _) => Some(FrameKind::Snapshot),
+            (false, true) => Some(FrameKind::Regular),
+            (false, false) => None,
+        };
+        let gathered = kind.is_some_and(|k| sim.frame_reads_whole(k));
         if gathered {
             sim.gather();
         }
         // A snapshot on a step the schedule also wants is one frame, not the same
         // state twice in the series.
-        if snapped {
-            agreed(sim, frame(sim, observers, FrameKind::Snapshot, counters))?;
-        } else if regular {
-            agreed(sim, frame(sim, observers, FrameKind::Regular, counters))?;
+        if let Some(kind) = kind {
+            agreed(sim, frame(sim, observers, kind, counters))?;
         }
         control.progress.update(plan.horizon.fraction(c), c);
         let pause = control.stop_at_step.is_some_and(|s| c.step >= s);

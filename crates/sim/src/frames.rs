@@ -1,5 +1,6 @@
 //! `frames/`: numbered ParaView files of the particles (and whatever else an engine
-//! writes beside them), grouped per time in `frames/series.pvd`.
+//! writes beside them), grouped per time in `frames/series.pvd`. On a run spread over
+//! ranks every rank writes its piece of each frame; rank 0 keeps the series.
 
 use crate::driver::{FrameKind, Observer, Simulation};
 use grains_core::pvd::PvdSeries;
@@ -19,7 +20,8 @@ pub trait Framed: Simulation {
 /// Writes numbered frames into `frames/` and keeps `frames/series.pvd` current.
 pub struct FrameRecorder {
     dir: PathBuf,
-    series: PvdSeries,
+    /// `None` on a rank other than 0, which writes its pieces only.
+    series: Option<PvdSeries>,
     statics: Vec<(&'static str, String)>,
     count: usize,
 }
@@ -34,7 +36,7 @@ impl FrameRecorder {
         std::fs::create_dir_all(&dir)?;
         let statics = sim.static_parts(&dir)?;
         Ok(FrameRecorder {
-            series: PvdSeries::new(&dir.join("series.pvd")),
+            series: Some(PvdSeries::new(&dir.join("series.pvd"))),
             dir,
             statics,
             count: 0,
@@ -49,11 +51,24 @@ impl FrameRecorder {
         series.truncate_after(time)?;
         let statics = sim.static_parts(&dir)?;
         Ok(FrameRecorder {
-            series,
+            series: Some(series),
             dir,
             statics,
             count,
         })
+    }
+
+    /// The recorder of a rank other than 0 of a run spread over ranks, `count` frames
+    /// into the run: it writes the rank's piece of each frame into `out/frames` (which
+    /// rank 0 made before any rank writes) and leaves the series and static parts to
+    /// rank 0.
+    pub fn pieces(out: &Path, count: usize) -> Self {
+        FrameRecorder {
+            dir: out.join("frames"),
+            series: None,
+            statics: Vec::new(),
+            count,
+        }
     }
 
     /// Frames written.
@@ -65,16 +80,19 @@ impl FrameRecorder {
 impl<S: Framed> Observer<S> for FrameRecorder {
     fn on_frame(&mut self, sim: &S, _kind: FrameKind) -> anyhow::Result<()> {
         let mut parts = sim.write_frame(&self.dir, self.count)?;
+        self.count += 1;
+        let Some(series) = self.series.as_mut() else {
+            return Ok(());
+        };
         parts.extend(self.statics.iter().cloned());
         let t = sim.clock().time;
         match parts.as_slice() {
-            [(_, only)] => self.series.push(t, only)?,
+            [(_, only)] => series.push(t, only)?,
             _ => {
                 let refs: Vec<(&str, &str)> = parts.iter().map(|(n, f)| (*n, f.as_str())).collect();
-                self.series.push_group(t, &refs)?;
+                series.push_group(t, &refs)?;
             }
         }
-        self.count += 1;
         Ok(())
     }
 }

@@ -3,12 +3,14 @@
 //! the others nothing, and the summary's state hash and the history's energies are the
 //! serial run's bit for bit.
 
+use grains_core::vtk::{check_pvtp, find_array, read_appended_arrays, ReadArray};
 use grains_dem::decomp::local::run_ranks;
 use grains_dem::Reduce;
 use grains_sim::dem::ranks::Link;
 use grains_sim::driver::{Progress, AGREE_EVERY};
 use grains_sim::run::{self, RunOptions};
 use grains_sim::{Clock, Finished, Source};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -98,13 +100,100 @@ fn a_2d_dem_run_on_2_and_4_ranks_is_the_serial_run() {
         assert_eq!(leader.summary.particles, serial.summary.particles);
         assert_eq!(leader.summary.frames, serial.summary.frames);
         assert_eq!(leader.summary.figures, serial.summary.figures, "{n} ranks");
-        assert_eq!(files(&out), files(&dir.path().join("serial")), "{n} ranks");
+        assert_eq!(
+            files(&out),
+            as_pieces(files(&dir.path().join("serial")), n),
+            "{n} ranks"
+        );
+        frames_are_the_serial_frames(&dir.path().join("serial"), &out, n);
         assert_eq!(
             energies(&out),
             energies(&dir.path().join("serial")),
             "{n} ranks"
         );
     }
+}
+
+/// The files of a serial run as a run on `n` ranks writes them: each particle frame
+/// `frames/particles_K.vtp` as the index `particles_K.pvtp` and one piece per rank.
+fn as_pieces(serial: Vec<PathBuf>, n: usize) -> Vec<PathBuf> {
+    let mut all = Vec::new();
+    for f in serial {
+        let name = f.file_name().unwrap().to_str().unwrap();
+        match name
+            .strip_prefix("particles_")
+            .and_then(|k| k.strip_suffix(".vtp"))
+        {
+            Some(k) => {
+                all.push(f.with_file_name(format!("particles_{k}.pvtp")));
+                for r in 0..n {
+                    all.push(f.with_file_name(format!("particles_{k}_r{r:03}.vtp")));
+                }
+            }
+            None => all.push(f),
+        }
+    }
+    all.sort();
+    all
+}
+
+/// Each frame's values by particle id: (section, array) → id → the tuple's bits.
+type ById = BTreeMap<(String, String), BTreeMap<u64, Vec<u64>>>;
+
+fn by_id(pieces: &[Vec<ReadArray>]) -> ById {
+    let mut all = ById::new();
+    for arrays in pieces {
+        let ids = &find_array(arrays, "PointData", "id").unwrap().values;
+        for a in arrays.iter().filter(|a| a.section != "Verts") {
+            let rows = all.entry((a.section.clone(), a.name.clone())).or_default();
+            for (t, &id) in ids.iter().enumerate() {
+                let tuple = &a.values[t * a.components..(t + 1) * a.components];
+                let old = rows.insert(id as u64, tuple.iter().map(|x| x.to_bits()).collect());
+                assert!(old.is_none(), "particle {id} in two pieces");
+            }
+        }
+    }
+    all
+}
+
+/// On `n` ranks every frame is a well-formed `.pvtp` over one piece per rank, which
+/// `series.pvd` lists where the serial run lists its `.vtp`, and whose pieces together
+/// hold the serial frame's particles, every array bit for bit but the contact stress,
+/// a sum over contacts taken in the rank's list order (to 1e-12 of the largest).
+fn frames_are_the_serial_frames(serial: &Path, out: &Path, n: usize) {
+    let (serial, out) = (serial.join("frames"), out.join("frames"));
+    let mut series = std::fs::read_to_string(serial.join("series.pvd")).unwrap();
+    let mut k = 0;
+    while serial.join(format!("particles_{k:05}.vtp")).exists() {
+        let name = format!("particles_{k:05}");
+        series = series.replace(&format!("\"{name}.vtp\""), &format!("\"{name}.pvtp\""));
+        let (index, pieces) = check_pvtp(&out.join(format!("{name}.pvtp"))).unwrap();
+        let want: Vec<String> = (0..n).map(|r| format!("{name}_r{r:03}.vtp")).collect();
+        assert_eq!(index.pieces, want, "{n} ranks");
+        let whole = read_appended_arrays(&serial.join(format!("{name}.vtp"))).unwrap();
+        let (mut got, mut want) = (by_id(&pieces), by_id(&[whole]));
+        let key = ("PointData".to_string(), "stress".to_string());
+        let (a, b) = (got.remove(&key).unwrap(), want.remove(&key).unwrap());
+        assert_eq!(got, want, "frame {k} on {n} ranks");
+        let f = |bits: &Vec<u64>| -> Vec<f64> { bits.iter().map(|&b| f64::from_bits(b)).collect() };
+        let scale = b.values().flat_map(f).fold(0.0f64, |m, x| m.max(x.abs()));
+        assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+        for (x, y) in a.values().zip(b.values()) {
+            for (x, y) in f(x).iter().zip(f(y)) {
+                assert!(
+                    (x - y).abs() <= 1e-12 * scale,
+                    "stress, frame {k}: {x} vs {y}"
+                );
+            }
+        }
+        k += 1;
+    }
+    assert!(k > 2, "{k} frames");
+    assert_eq!(
+        std::fs::read_to_string(out.join("series.pvd")).unwrap(),
+        series,
+        "{n} ranks"
+    );
 }
 
 /// Under several ranks, what the decomposition does not carry, and a grid that does not

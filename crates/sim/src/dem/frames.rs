@@ -1,10 +1,15 @@
 //! ParaView output of a DEM run: particle frames and the walls as VTP, indexed by a PVD.
+//! A run spread over ranks writes each frame as pieces, one `.vtp` per rank of the
+//! particles it owns, and rank 0 the `.pvtp` over them, which the PVD lists: no rank
+//! sends its particles anywhere for a frame.
 
+use super::ranks::Part;
 use super::Dem;
 use crate::frames::Framed;
+use glam::DVec2;
 use grains_core::atomic::write_atomic_with;
 use grains_core::vtk::{DataArray, PolyData};
-use grains_dem::{diagnostics, Setup, State};
+use grains_dem::{diagnostics, Reduce, Setup, State};
 use std::io::{self, Write};
 use std::path::Path;
 
@@ -18,6 +23,9 @@ impl Framed for Dem {
     }
 
     fn write_frame(&self, dir: &Path, k: usize) -> io::Result<Vec<(&'static str, String)>> {
+        if let Some(part) = &self.ranks {
+            return self.write_pieces(part, dir, k);
+        }
         let name = format!("particles_{k:05}.vtp");
         particles_polydata(&self.setup, &self.state).write(&dir.join(&name))?;
         if self.lammps_dump {
@@ -30,25 +38,80 @@ impl Framed for Dem {
     }
 }
 
+impl Dem {
+    /// This rank's piece of frame `k`, `particles_<k>_r<rank>.vtp` (its own particles,
+    /// not its ghosts, with the serial frame's arrays), and on rank 0 the index
+    /// `particles_<k>.pvtp` over every rank's piece. Every rank writes a piece, an empty
+    /// one too, so the index names them without asking the others.
+    fn write_pieces(
+        &self,
+        part: &Part,
+        dir: &Path,
+        k: usize,
+    ) -> io::Result<Vec<(&'static str, String)>> {
+        let s = &part.local;
+        let own: Vec<usize> = (0..s.particles.len())
+            .filter(|&i| part.dec.owns(i))
+            .collect();
+        let poly = particles_polydata_of(&self.setup, s, &own);
+        poly.write(&dir.join(piece_name(k, part.rank())))?;
+        if part.rank() != 0 {
+            return Ok(Vec::new());
+        }
+        if self.lammps_dump {
+            // The dump is one file of every particle: rank 0 has gathered them for it.
+            let dump = format!("particles_{k:05}.dump");
+            write_atomic_with(&dir.join(dump), |w| {
+                lammps_dump(w, &self.setup, &self.state)
+            })?;
+        }
+        let pieces: Vec<String> = (0..part.dec.ranks()).map(|r| piece_name(k, r)).collect();
+        let name = format!("particles_{k:05}.pvtp");
+        poly.write_pvtp(&dir.join(&name), &pieces)?;
+        Ok(vec![("particles", name)])
+    }
+}
+
+/// Rank `rank`'s piece of frame `k`.
+pub fn piece_name(k: usize, rank: usize) -> String {
+    format!("particles_{k:05}_r{rank:03}.vtp")
+}
+
 /// The particles as VTK vertices with their fields: among them each particle's mass
 /// (kg/m) and contact stress (Pa, Love's average over the disk, tension positive; a
 /// 3 × 3 tensor with zero z row and column, as ParaView expects), which the dispersal
 /// analysis of a finished run reads back.
 pub fn particles_polydata(setup: &Setup, s: &State) -> PolyData {
+    let all: Vec<usize> = (0..s.particles.len()).collect();
+    particles_polydata_of(setup, s, &all)
+}
+
+/// [`particles_polydata`] of the particles `keep` (indices into `s`, in that order);
+/// their contacts and stress count every listed partner, ghosts included.
+pub fn particles_polydata_of(setup: &Setup, s: &State, keep: &[usize]) -> PolyData {
     let p = &s.particles;
-    let mut poly = PolyData::from_points_2d(&p.pos);
+    let of = |v: &[DVec2]| -> Vec<DVec2> { keep.iter().map(|&i| v[i]).collect() };
+    let each = |f: &dyn Fn(usize) -> f64| -> Vec<f64> { keep.iter().map(|&i| f(i)).collect() };
+    let mut poly = PolyData::from_points_2d(&of(&p.pos));
     let contacts = diagnostics::contact_counts(setup, s);
     let stress = grains_dem::stress::particle_stress(setup, s);
+    let stress: Vec<glam::DMat2> = keep.iter().map(|&i| stress[i]).collect();
     poly.point_data = vec![
-        DataArray::scalar_i64("id", p.id.iter().map(|&k| k as i64).collect()),
-        DataArray::scalar_f64("radius", p.radius.clone()),
-        DataArray::scalar_f64("mass", (0..p.len()).map(|i| p.mass(i)).collect()),
-        DataArray::vector2_f64("velocity", &p.vel),
-        DataArray::scalar_f64("speed", p.vel.iter().map(|v| v.length()).collect()),
-        DataArray::scalar_f64("omega", p.omega.clone()),
-        DataArray::vector2_f64("force", &p.force),
-        DataArray::scalar_i32("contacts", contacts.iter().map(|&c| c as i32).collect()),
-        DataArray::scalar_i32("material", p.material.iter().map(|&m| m as i32).collect()),
+        DataArray::scalar_i64("id", keep.iter().map(|&i| p.id[i] as i64).collect()),
+        DataArray::scalar_f64("radius", each(&|i| p.radius[i])),
+        DataArray::scalar_f64("mass", each(&|i| p.mass(i))),
+        DataArray::vector2_f64("velocity", &of(&p.vel)),
+        DataArray::scalar_f64("speed", each(&|i| p.vel[i].length())),
+        DataArray::scalar_f64("omega", each(&|i| p.omega[i])),
+        DataArray::vector2_f64("force", &of(&p.force)),
+        DataArray::scalar_i32(
+            "contacts",
+            keep.iter().map(|&i| contacts[i] as i32).collect(),
+        ),
+        DataArray::scalar_i32(
+            "material",
+            keep.iter().map(|&i| p.material[i] as i32).collect(),
+        ),
         stress_array(STRESS_ARRAY, &stress),
     ];
     poly

@@ -16,7 +16,7 @@ pub mod scenario;
 pub mod spread;
 
 use crate::dispersal::{Dispersing, Frame};
-use crate::driver::{Clock, ParticleView, Simulation};
+use crate::driver::{Clock, FrameKind, ParticleView, Simulation};
 use crate::forces::{Hook, Outside};
 use crate::output::Capabilities;
 use grains_core::input::InputError;
@@ -165,6 +165,12 @@ impl Simulation for Dem {
         if let Some(part) = self.ranks.as_mut() {
             part.gather(&self.setup, &mut self.state);
         }
+    }
+
+    fn frame_reads_whole(&self, kind: FrameKind) -> bool {
+        // Each rank writes its piece of a frame; the snapshot maps and a LAMMPS dump
+        // are drawn from every particle on rank 0.
+        self.ranks.is_none() || kind != FrameKind::Regular || self.lammps_dump
     }
 
     fn agree(&self, flag: bool) -> bool {

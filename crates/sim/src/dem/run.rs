@@ -54,6 +54,8 @@ struct Watchers {
     rest: Option<RestDetector>,
     /// The observers that write or read every particle: on rank 0 (or the only rank).
     writers: Option<Writers>,
+    /// On the other ranks of a run spread over ranks: their pieces of each frame.
+    pieces: Option<FrameRecorder>,
 }
 
 struct Writers {
@@ -68,6 +70,7 @@ impl Watchers {
     fn list(&mut self) -> Vec<&mut dyn Observer<Dem>> {
         let mut o: Vec<&mut dyn Observer<Dem>> = vec![&mut self.history];
         let Some(w) = self.writers.as_mut() else {
+            o.extend(self.pieces.as_mut().map(|f| f as &mut dyn Observer<Dem>));
             o.extend(self.rest.as_mut().map(|r| r as &mut dyn Observer<Dem>));
             return o;
         };
@@ -204,6 +207,9 @@ pub fn open_on(
             .map_err(RunError::from)
     };
     let (history, frames, counters) = agreed(&sim, started)?;
+    let pieces = frames
+        .is_none()
+        .then(|| FrameRecorder::pieces(&out, counters.frames));
     let writers = if let Some(frames) = frames {
         // The law was resolved (and refused where bad) when the run was assembled, on
         // every rank alike: it cannot fail here, on rank 0 alone.
@@ -242,6 +248,7 @@ pub fn open_on(
         history,
         rest,
         writers,
+        pieces,
     };
     let mut observers = watchers.list();
     if let Some(r) = &resume {
