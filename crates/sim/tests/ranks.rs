@@ -107,6 +107,11 @@ fn a_2d_dem_run_on_2_and_4_ranks_is_the_serial_run() {
         );
         frames_are_the_serial_frames(&dir.path().join("serial"), &out, n);
         assert_eq!(
+            analysed(&out),
+            analysed(&dir.path().join("serial")),
+            "{n} ranks"
+        );
+        assert_eq!(
             energies(&out),
             energies(&dir.path().join("serial")),
             "{n} ranks"
@@ -135,6 +140,27 @@ fn as_pieces(serial: Vec<PathBuf>, n: usize) -> Vec<PathBuf> {
     }
     all.sort();
     all
+}
+
+/// `grains analyze RUN_DIR` of a run given a `[dispersal]` table afterwards (it reads
+/// a `.pvtp` frame as its pieces joined): the frames analysed and each one's grains in
+/// the band, transition and spall (counts: the sums follow the pieces' order).
+fn analysed(run: &Path) -> Vec<u64> {
+    let text = std::fs::read_to_string(run.join("scenario.toml")).unwrap();
+    let with = format!("{text}\n[dispersal]\ncentre = [0.015, 0.0]\n");
+    std::fs::write(run.join("scenario.toml"), with).unwrap();
+    let out = run.join("analysis");
+    let figures = grains_sim::dispersal::run_dir::analyze_run(run, &out, None).unwrap();
+    std::fs::write(run.join("scenario.toml"), text).unwrap();
+    std::fs::remove_dir_all(&out).unwrap();
+    let d = &figures["dispersal"];
+    let mut counts = vec![d["analysed"].as_u64().unwrap()];
+    for f in d["frames"].as_array().unwrap() {
+        for zone in ["band", "transition", "spall"] {
+            counts.push(f["split"][zone]["grains"].as_u64().unwrap());
+        }
+    }
+    counts
 }
 
 /// Each frame's values by particle id: (section, array) → id → the tuple's bits.

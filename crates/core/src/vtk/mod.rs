@@ -19,7 +19,7 @@ mod structured;
 mod unstructured;
 
 pub use data::{ArrayData, DataArray};
-pub use parallel::{check_pvtp, read_pvtp, Declared, ParallelIndex};
+pub use parallel::{check_pvtp, read_points_joined, read_pvtp, Declared, ParallelIndex};
 pub use polydata::PolyData;
 pub use reader::{find_array, read_appended_arrays, ReadArray};
 pub use structured::StructuredGrid;

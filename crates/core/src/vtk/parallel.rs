@@ -164,6 +164,30 @@ pub fn check_pvtp(path: &Path) -> io::Result<(ParallelIndex, Vec<Vec<ReadArray>>
     Ok((index, pieces))
 }
 
+/// The points and point arrays of a frame file: a `.vtp`'s (every array, as
+/// [`read_appended_arrays`] reads them), or a checked `.pvtp`'s pieces joined in piece
+/// order (points and point data only: each piece's cells index its own points).
+pub fn read_points_joined(path: &Path) -> io::Result<Vec<ReadArray>> {
+    if path.extension().and_then(|e| e.to_str()) != Some("pvtp") {
+        return read_appended_arrays(path);
+    }
+    let (_, pieces) = check_pvtp(path)?;
+    let mut joined: Vec<ReadArray> = Vec::new();
+    for a in pieces.into_iter().flatten() {
+        if a.section != "Points" && a.section != "PointData" {
+            continue;
+        }
+        match joined
+            .iter_mut()
+            .find(|j| j.section == a.section && j.name == a.name)
+        {
+            Some(j) => j.values.extend(a.values),
+            None => joined.push(a),
+        }
+    }
+    Ok(joined)
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::find_array;
@@ -217,11 +241,18 @@ mod tests {
             ]
         );
         assert_eq!(index.arrays[1].components, 3);
-        let ids: Vec<f64> = arrays
-            .iter()
-            .flat_map(|a| find_array(a, "PointData", "id").unwrap().values.clone())
-            .collect();
-        assert_eq!(ids, [3.0, 1.0, 2.0]);
+        assert_eq!(arrays.len(), 3);
+        let joined = read_points_joined(&path).unwrap();
+        let ids = &find_array(&joined, "PointData", "id").unwrap().values;
+        assert_eq!(
+            find_array(&joined, "Points", "Points")
+                .unwrap()
+                .values
+                .len(),
+            9
+        );
+        assert!(find_array(&joined, "Verts", "offsets").is_none());
+        assert_eq!(ids, &[3.0, 1.0, 2.0]);
     }
 
     #[test]

@@ -21,7 +21,7 @@ use crate::source::Source;
 use glam::{DMat2, DVec2};
 use grains_analysis::ring::{self as ring_analysis, Disks};
 use grains_core::pvd::PvdSeries;
-use grains_core::vtk::{find_array, read_appended_arrays, ReadArray};
+use grains_core::vtk::{find_array, read_appended_arrays, read_points_joined, ReadArray};
 use serde_json::{json, Map, Value};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -312,7 +312,8 @@ fn frame_files(dir: &Path) -> Result<Vec<FrameFiles>, String> {
 fn load(f: &FrameFiles, centre: DVec2, density: Option<f64>) -> anyhow::Result<Frame> {
     use anyhow::Context as _;
     let path = &f.particles;
-    let arrays = read_appended_arrays(path).with_context(|| format!("{}", path.display()))?;
+    // A frame written under mpirun is a .pvtp over one piece per rank.
+    let arrays = read_points_joined(path).with_context(|| format!("{}", path.display()))?;
     let get = |section: &str, name: &str| -> anyhow::Result<&ReadArray> {
         find_array(&arrays, section, name)
             .with_context(|| format!("{}: no {section} array `{name}`", path.display()))
