@@ -183,6 +183,59 @@ impl EnergyLedger {
         Ok(l)
     }
 
+    /// Its numbers in a fixed order, for a checkpoint ([`EnergyLedger::from_words`]).
+    pub fn to_words(&self) -> [f64; LEDGER_WORDS] {
+        let w = &self.walls;
+        [
+            self.damping,
+            self.friction,
+            self.springs_released,
+            self.stored_normal,
+            self.stored_tangential,
+            self.damping_tangential,
+            self.rolling_damping,
+            self.rolling_friction,
+            self.twisting_damping,
+            self.twisting_friction,
+            self.softening,
+            self.lever,
+            self.stored_rolling,
+            self.stored_twisting,
+            w.normal,
+            w.tangential,
+            w.rolling,
+            w.twisting,
+            self.wall_work,
+        ]
+    }
+
+    /// The ledger of [`EnergyLedger::to_words`].
+    pub fn from_words(w: &[f64; LEDGER_WORDS]) -> Self {
+        EnergyLedger {
+            damping: w[0],
+            friction: w[1],
+            springs_released: w[2],
+            stored_normal: w[3],
+            stored_tangential: w[4],
+            damping_tangential: w[5],
+            rolling_damping: w[6],
+            rolling_friction: w[7],
+            twisting_damping: w[8],
+            twisting_friction: w[9],
+            softening: w[10],
+            lever: w[11],
+            stored_rolling: w[12],
+            stored_twisting: w[13],
+            walls: Springs {
+                normal: w[14],
+                tangential: w[15],
+                rolling: w[16],
+                twisting: w[17],
+            },
+            wall_work: w[18],
+        }
+    }
+
     /// Takes in one pair pass.
     pub(crate) fn record(&mut self, pass: &PassTally) {
         self.springs_released += (self.stored_tangential - pass.tangential_before)
@@ -311,6 +364,9 @@ pub(crate) fn in_id_order<R: crate::comm::Reduce + ?Sized>(
     }
     total
 }
+
+/// Numbers in an [`EnergyLedger`] ([`EnergyLedger::to_words`]).
+pub const LEDGER_WORDS: usize = 19;
 
 /// Numbers in one [`PassTally`].
 const WORDS: usize = 17;
