@@ -72,8 +72,19 @@ fn chung_ooi_test5() {
 
 #[test]
 fn settling_column() {
-    let (s, _) = run_dem3d_example("settling_column", 1);
+    let (s, header) = run_dem3d_example("settling_column", 2);
     assert_eq!(s["status"], "at_rest");
+    // The energy ledger, on by default: its columns, figures and closure check.
+    for c in [
+        "contact_stored",
+        "dissipated_damping",
+        "wall_work",
+        "ledger_residual",
+    ] {
+        assert!(header.split(',').any(|h| h == c), "no {c} in {header}");
+    }
+    let closure = s["figures"]["energy_ledger"]["closure"].as_f64().unwrap();
+    assert!(closure < 0.01, "{closure}");
 }
 
 /// A sphere on a translating rectangle (the belt's surface velocity in the contact)

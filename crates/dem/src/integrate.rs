@@ -3,7 +3,8 @@
 
 use crate::domain::Image;
 use crate::forces::contact_force;
-use crate::law::ContactLaw;
+use crate::law::{ContactLaw, Prior, Response};
+use crate::ledger::PassTally;
 use crate::math::{self, AngVector, Vector};
 use crate::neighbours::{ContactList, GranularHistory};
 use crate::particles::Particles;
@@ -199,15 +200,24 @@ fn kick_drift_chunks<const P: u8>(
 /// (½Δt to close a Verlet step; 0 for the initial evaluation).
 ///
 /// Returns the load on each wall, summed over fixed chunks in order so that it is
-/// bitwise the same whatever the thread count.
+/// bitwise the same whatever the thread count. With `rows` (one per particle), each
+/// particle's wall contacts' ledger terms are left there ([`crate::ledger`]); the
+/// forces are the same either way.
 pub fn walls_gather_kick(
     setup: &Setup,
     p: &mut Particles,
     list: &mut ContactList,
     dt_shear: f64,
     kick: f64,
+    rows: Option<&mut [PassTally]>,
 ) -> Vec<WallLoad> {
     let n = p.len();
+    let rows: Vec<&mut [PassTally]> = match rows {
+        Some(r) => r.chunks_mut(CHUNK).collect(),
+        None => (0..n.div_ceil(CHUNK))
+            .map(|_| &mut [] as &mut [PassTally])
+            .collect(),
+    };
     let nw = setup.walls.len();
     let nchunks = n.div_ceil(CHUNK);
     let wall_shear: Vec<&mut [math::Tangent]> = if nw > 0 {
@@ -246,11 +256,13 @@ pub fn walls_gather_kick(
         .zip(p.torque.par_chunks_mut(CHUNK))
         .zip(wall_shear)
         .zip(wall_history)
+        .zip(rows)
         .enumerate()
-        .map(|(c, (((((vel, omega), force), torque), ws), wh))| {
+        .map(|(c, ((((((vel, omega), force), torque), ws), wh), book))| {
             let mut loads = vec![WallLoad::default(); nw];
             for k in 0..vel.len() {
                 let i = c * CHUNK + k;
+                let mut terms = PassTally::default();
                 let r = radius[i];
                 let mut f = force[k];
                 let mut t_rev = AngVector::default();
@@ -290,28 +302,45 @@ pub fn walls_gather_kick(
                     }
                     let m = 1.0 / inv_mass[i];
                     let at = pos[i] + touch.normal * touch.distance;
-                    let v = vel[k] - setup.walls[w].surface_velocity(at);
+                    let v_wall = setup.walls[w].surface_velocity(at);
+                    let v = vel[k] - v_wall;
+                    let prior = || Prior {
+                        overlap: prior_overlap(setup, w, pos[i], r, vel[k], dt_shear),
+                        omega_sum: omega[k],
+                    };
+                    // A wall is a body of infinite mass and radius that does not turn.
+                    let contact = crate::law::Contact {
+                        n: touch.normal,
+                        overlap: r - touch.distance,
+                        r_eff: r,
+                        m_eff: m,
+                        v,
+                        spin: r * omega[k],
+                        w_rel: omega[k],
+                    };
                     let (fw, tw) = match granular {
-                        // A wall is a body of infinite mass and radius that does not turn.
                         Some(table) => {
                             let wm = setup.walls[w].material.map_or(material[i], |m| m);
                             let law = table.get(material[i] as usize, wm as usize);
-                            let contact = crate::granular::Contact {
-                                n: touch.normal,
-                                overlap: r - touch.distance,
-                                r_eff: r,
-                                m_eff: m,
-                                v,
-                                spin: r * omega[k],
-                                w_rel: omega[k],
-                            };
                             let h = &mut wh[k * nw + w];
+                            let before = *h;
                             let resp = law.respond(&contact, h, dt_shear);
+                            if !book.is_empty() {
+                                terms += law.ledger_terms(
+                                    &contact,
+                                    &before,
+                                    h,
+                                    &resp,
+                                    dt_shear,
+                                    &prior(),
+                                );
+                            }
                             let arm = r - 0.5 * contact.overlap;
                             (resp.force, arm * resp.moment + resp.couple)
                         }
                         None => {
                             let params = setup.wall_pair(w, material[i] as usize);
+                            let before = *shear;
                             let cf = contact_force(
                                 params,
                                 m,
@@ -324,15 +353,40 @@ pub fn walls_gather_kick(
                             );
                             let fw = -cf.normal * touch.normal
                                 + math::tangent_vector(cf.tangential, touch.normal);
-                            (fw, r * math::moment(cf.tangential, touch.normal))
+                            let moment = math::moment(cf.tangential, touch.normal);
+                            if !book.is_empty() {
+                                let resp = Response {
+                                    force: fw,
+                                    moment,
+                                    couple: AngVector::default(),
+                                    normal: cf.normal,
+                                };
+                                terms += params.ledger_terms(
+                                    &contact,
+                                    &before,
+                                    shear,
+                                    &resp,
+                                    dt_shear,
+                                    &prior(),
+                                );
+                            }
+                            (fw, r * moment)
                         }
                     };
+                    if !book.is_empty() {
+                        // The grain receives F·v_i = F·(v_i − v_w) + F·v_w: the law books
+                        // the first, the wall's motion supplies the second.
+                        terms.work += fw.dot(v_wall) * dt_shear;
+                    }
                     f += fw;
                     tq += tw;
                     let arm = at - setup.walls[w].shape.reference();
                     loads[w].force -= fw;
                     loads[w].torque -= math::cross(arm, fw);
                     loads[w].contacts += 1;
+                }
+                if let Some(b) = book.get_mut(k) {
+                    *b = terms;
                 }
                 force[k] = f;
                 torque[k] = tq;
@@ -352,4 +406,14 @@ pub fn walls_gather_kick(
         }
     }
     total
+}
+
+/// The overlap of a particle (at `x`, radius `r`, drifting at `v`) with wall `w` before
+/// the step's drift: the particle carried back by its drift relative to the wall (a
+/// translating wall drifted too; a turning one keeps its shape). Negative where it did
+/// not touch.
+fn prior_overlap(setup: &Setup, w: usize, x: Vector, r: f64, v: Vector, dt: f64) -> f64 {
+    let wall = &setup.walls[w];
+    let back = x - dt * (v - wall.motion.velocity);
+    wall.shape.nearest(back).map_or(-1.0, |t| r - t.distance)
 }

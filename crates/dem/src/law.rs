@@ -116,6 +116,8 @@ pub struct LedgerTerms {
     /// book, taken as a loss (negative: a gain): the tangential force turns the bodies
     /// about arms R − δ/2 but its slip is read with arms R.
     pub lever: f64,
+    /// Work a moving wall did on the body (wall contacts only; laws leave it zero).
+    pub work: f64,
 }
 
 /// What the ledger needs of a step's start that a [`Contact`] does not hold.

@@ -19,8 +19,14 @@
 //! It also keeps the energy stored in the touching pairs' springs after the pass
 //! (½K_n δ² and ½K_t ξ² summed). Work in = kinetic change + stored change + the
 //! dissipation, up to the integrator's error (first order in Δt for sliding, whose slip
-//! is read at the half step). Wall contacts are not in the ledger. Started on a state
-//! whose springs are not all zero, it takes them in with [`EnergyLedger::starting`].
+//! is read at the half step). Started on a state whose springs are not all zero, it
+//! takes them in with [`EnergyLedger::starting`].
+//!
+//! Wall contacts are booked by the same terms (the wall a body of infinite mass that
+//! does not turn), their springs kept apart ([`EnergyLedger::walls`]) so that each
+//! pass's released springs are told from its own contacts'. A moving wall works on the
+//! grains: F·v_w Δt per contact (F the force on the grain, v_w the wall's surface
+//! velocity at the contact point), booked as `wall_work`, work in.
 //!
 //! Under the granular law (`crate::granular_ledger`) the same terms hold with the
 //! law's stiffnesses (Hertz's normal spring, Mindlin's k_t a), the rolling and twisting
@@ -84,6 +90,30 @@ pub struct EnergyLedger {
     pub stored_rolling: f64,
     /// ½k_tw θ² of the touching pairs after the last pass.
     pub stored_twisting: f64,
+    /// What the wall contacts' springs hold after the last wall pass.
+    pub walls: Springs,
+    /// Work the moving walls did on the grains (J; work in, not dissipated).
+    pub wall_work: f64,
+}
+
+/// The energy the springs of one kind of contact hold (J; per unit thickness in 2D).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Springs {
+    /// Normal springs.
+    pub normal: f64,
+    /// Tangential springs.
+    pub tangential: f64,
+    /// Rolling springs.
+    pub rolling: f64,
+    /// Twisting springs.
+    pub twisting: f64,
+}
+
+impl Springs {
+    /// All of it.
+    pub fn total(&self) -> f64 {
+        self.normal + self.tangential + self.rolling + self.twisting
+    }
 }
 
 impl EnergyLedger {
@@ -105,9 +135,13 @@ impl EnergyLedger {
             + self.twisting_friction
     }
 
-    /// Energy stored in the pairs' springs.
+    /// Energy stored in the springs, the pairs' and the walls'.
     pub fn stored(&self) -> f64 {
-        self.stored_normal + self.stored_tangential + self.stored_rolling + self.stored_twisting
+        self.stored_normal
+            + self.stored_tangential
+            + self.stored_rolling
+            + self.stored_twisting
+            + self.walls.total()
     }
 
     /// A ledger started on `s`: nothing dissipated yet, its springs' energy stored;
@@ -145,18 +179,79 @@ impl EnergyLedger {
                 }
             }
         }
+        l.walls = wall_springs(setup, s);
         Ok(l)
+    }
+
+    /// Its numbers in a fixed order, for a checkpoint ([`EnergyLedger::from_words`]).
+    pub fn to_words(&self) -> [f64; LEDGER_WORDS] {
+        let w = &self.walls;
+        [
+            self.damping,
+            self.friction,
+            self.springs_released,
+            self.stored_normal,
+            self.stored_tangential,
+            self.damping_tangential,
+            self.rolling_damping,
+            self.rolling_friction,
+            self.twisting_damping,
+            self.twisting_friction,
+            self.softening,
+            self.lever,
+            self.stored_rolling,
+            self.stored_twisting,
+            w.normal,
+            w.tangential,
+            w.rolling,
+            w.twisting,
+            self.wall_work,
+        ]
+    }
+
+    /// The ledger of [`EnergyLedger::to_words`].
+    pub fn from_words(w: &[f64; LEDGER_WORDS]) -> Self {
+        EnergyLedger {
+            damping: w[0],
+            friction: w[1],
+            springs_released: w[2],
+            stored_normal: w[3],
+            stored_tangential: w[4],
+            damping_tangential: w[5],
+            rolling_damping: w[6],
+            rolling_friction: w[7],
+            twisting_damping: w[8],
+            twisting_friction: w[9],
+            softening: w[10],
+            lever: w[11],
+            stored_rolling: w[12],
+            stored_twisting: w[13],
+            walls: Springs {
+                normal: w[14],
+                tangential: w[15],
+                rolling: w[16],
+                twisting: w[17],
+            },
+            wall_work: w[18],
+        }
     }
 
     /// Takes in one pair pass.
     pub(crate) fn record(&mut self, pass: &PassTally) {
-        self.damping += pass.damping;
-        self.friction += pass.friction;
         self.springs_released += (self.stored_tangential - pass.tangential_before)
             + (self.stored_rolling - pass.rolling_before)
             + (self.stored_twisting - pass.twisting_before);
         self.stored_normal = pass.normal;
         self.stored_tangential = pass.tangential;
+        self.stored_rolling = pass.rolling;
+        self.stored_twisting = pass.twisting;
+        self.book(pass);
+    }
+
+    /// Adds a pass's dissipation and its changes without work.
+    fn book(&mut self, pass: &PassTally) {
+        self.damping += pass.damping;
+        self.friction += pass.friction;
         self.damping_tangential += pass.damping_tangential;
         self.rolling_damping += pass.rolling_damping;
         self.rolling_friction += pass.rolling_friction;
@@ -164,9 +259,63 @@ impl EnergyLedger {
         self.twisting_friction += pass.twisting_friction;
         self.softening += pass.softening;
         self.lever += pass.lever;
-        self.stored_rolling = pass.rolling;
-        self.stored_twisting = pass.twisting;
     }
+
+    /// Takes in one wall pass: its dissipation as a pair pass's, its springs kept in
+    /// [`EnergyLedger::walls`], the walls' work in `wall_work`.
+    pub(crate) fn record_walls(&mut self, pass: &PassTally) {
+        let w = &mut self.walls;
+        self.springs_released += (w.tangential - pass.tangential_before)
+            + (w.rolling - pass.rolling_before)
+            + (w.twisting - pass.twisting_before);
+        *w = Springs {
+            normal: pass.normal,
+            tangential: pass.tangential,
+            rolling: pass.rolling,
+            twisting: pass.twisting,
+        };
+        self.book(pass);
+        self.wall_work += pass.work;
+    }
+}
+
+/// The energy the wall contacts' springs of `s` hold (as `crate::diagnostics` counts
+/// them: a wall is flat, R_eff the particle's radius).
+fn wall_springs(setup: &Setup, s: &State) -> Springs {
+    let p = &s.particles;
+    let (list, nw) = (&s.contacts, setup.walls.len());
+    let mut out = Springs::default();
+    for i in 0..p.len() {
+        for (w, wall) in setup.walls.iter().enumerate() {
+            let Some(t) = wall.shape.nearest(p.pos[i]) else {
+                continue;
+            };
+            let overlap = p.radius[i] - t.distance;
+            if overlap <= 0.0 {
+                continue;
+            }
+            let (mi, k) = (p.material[i] as usize, i * nw + w);
+            let wm = wall.material.map_or(mi, |m| m as usize);
+            let st = match &setup.granular {
+                Some(table) => {
+                    let h = list.wall_history.get(k).copied().unwrap_or_default();
+                    table.get(mi, wm).stored_split(overlap, p.radius[i], &h)
+                }
+                None => {
+                    let xi = list.wall_shear.get(k).copied().unwrap_or_default();
+                    setup
+                        .pairs
+                        .get(mi, wm)
+                        .stored_split(overlap, p.radius[i], &xi)
+                }
+            };
+            out.normal += st.normal;
+            out.tangential += st.tangential;
+            out.rolling += st.rolling;
+            out.twisting += st.twisting;
+        }
+    }
+    out
 }
 
 /// What one pair pass adds up, the law's [`LedgerTerms`] summed per particle (its row),
@@ -216,8 +365,11 @@ pub(crate) fn in_id_order<R: crate::comm::Reduce + ?Sized>(
     total
 }
 
+/// Numbers in an [`EnergyLedger`] ([`EnergyLedger::to_words`]).
+pub const LEDGER_WORDS: usize = 19;
+
 /// Numbers in one [`PassTally`].
-const WORDS: usize = 16;
+const WORDS: usize = 17;
 
 impl PassTally {
     /// Its numbers in a fixed order.
@@ -239,6 +391,7 @@ impl PassTally {
             self.twisting_before,
             self.softening,
             self.lever,
+            self.work,
         ]
     }
 
@@ -261,6 +414,7 @@ impl PassTally {
             twisting_before: w[13],
             softening: w[14],
             lever: w[15],
+            work: w[16],
         }
     }
 }

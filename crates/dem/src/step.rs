@@ -46,7 +46,7 @@ impl State {
         };
         s.contacts.rebuild(setup, &mut s.particles);
         pair_contacts(setup, &mut s.particles, &mut s.contacts, 0.0, None);
-        s.wall_loads = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, 0.0, 0.0);
+        s.wall_loads = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, 0.0, 0.0, None);
         s
     }
 }
@@ -128,7 +128,22 @@ pub fn step_on<H: Hooks, C: Exchange>(
         |i| c.owns(i),
     );
     hooks.post_force(&mut s.particles);
-    s.wall_loads = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt);
+    s.wall_loads = match s.ledger.as_mut() {
+        None => walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt, None),
+        Some(l) => {
+            // The wall terms are added in ascending id, as the pairs' are.
+            let list = &mut s.contacts;
+            let mut rows = std::mem::take(&mut list.ledger_rows);
+            rows.resize(s.particles.len(), Default::default());
+            let p = &mut s.particles;
+            let loads = walls_gather_kick(setup, p, list, dt, 0.5 * dt, Some(&mut rows));
+            let c: &C = comm;
+            let pass = crate::ledger::in_id_order(&rows, &p.id, |i| c.owns(i), c, &mut list.by_id);
+            list.ledger_rows = rows;
+            l.record_walls(&pass);
+            loads
+        }
+    };
     if comm.ranks() > 1 {
         global_wall_loads(&mut s.wall_loads, comm);
     }

@@ -14,27 +14,13 @@ use grains_dem3d as dem;
 #[cfg(not(feature = "dim3"))]
 use grains_dem as dem;
 
+mod closure;
+
+use closure::{at, converges, material, noise, placeholder, spin, Closure, RHO};
 use dem::diagnostics::measure;
 use dem::granular::{Damping, GranularParams, Normal, Rolling, Tangential};
 use dem::math::{AngVector, Components, Vector, DIM};
-use dem::{
-    ContactModel, Domain, EnergyLedger, Hooks, Material, PairTable, Particles, Setup, State,
-};
-
-const RHO: f64 = 2500.0;
-
-/// A material of the granular law (its figures are in the law).
-fn material() -> Material {
-    Material {
-        name: "m".into(),
-        density: RHO,
-        youngs: None,
-        poisson: None,
-        restitution: None,
-        friction: None,
-        inertia_factor: 0.4,
-    }
-}
+use dem::{Domain, EnergyLedger, Hooks, PairTable, Particles, Setup, State};
 
 /// Hertz with Tsuji damping at restitution `e`, tangential `t`, friction μ.
 fn hertz(youngs: f64, e: f64, t: Tangential, mu: f64) -> GranularParams {
@@ -64,39 +50,10 @@ fn full(gamma_r: f64, mu_r: f64) -> GranularParams {
     law
 }
 
-/// A vector from its horizontal components (the first DIM − 1 of `h`) and its vertical
-/// one (the last axis).
-fn at(h: [f64; 2], up: f64) -> Vector {
-    let mut v = Vector::ZERO;
-    for a in 0..DIM - 1 {
-        v[a] = h[a];
-    }
-    v[DIM - 1] = up;
-    v
-}
-
-/// An angular velocity about the second horizontal axis in 3D (rolling along the first)
-/// and about the normal `twist`; in 2D the scalar spin `roll` (sign as in 3D: rolling
-/// along +x without slip on a floor takes roll = v/r in 3D, −v/r in 2D).
-fn spin(roll: f64, twist: f64) -> AngVector {
-    if DIM == 3 {
-        <AngVector as Components>::from_slice(&[0.0, roll, twist])
-    } else {
-        <AngVector as Components>::from_slice(&[-roll])
-    }
-}
-
 /// The set-up: two materials (0 the moving grains, 1 the held ones), one law, gravity
 /// along −up, the box from `lo` to `hi` (periodic across when `periodic`).
 fn setup(law: GranularParams, g: f64, lo: Vector, hi: Vector, periodic: bool) -> Setup {
-    let model = ContactModel::HookeHistory {
-        kn: 1.0,
-        kt: 1.0,
-        gamma_n: 0.0,
-        gamma_t: 0.0,
-        mu: 0.0,
-        limit_damping: false,
-    };
+    let model = placeholder();
     let mut p = [periodic; DIM];
     p[DIM - 1] = false;
     let domain = Domain {
@@ -146,17 +103,6 @@ fn energy(setup: &Setup, s: &State) -> f64 {
     measure(setup, s).kinetic() + potential + s.ledger.unwrap().stored()
 }
 
-/// What a closure run measured.
-#[derive(Debug)]
-struct Closure {
-    /// |E_end + booked − E_0| / E_0.
-    residual: f64,
-    /// E_0: the initial energy (kinetic + potential + stored).
-    start: f64,
-    ledger: EnergyLedger,
-    state: State,
-}
-
 /// Runs `p` for `duration` at `dt` with the ledger on and measures its closure.
 fn close(setup: &Setup, p: Particles, dt: f64, duration: f64) -> Closure {
     let mut s = State::new(setup, p);
@@ -183,30 +129,6 @@ fn close(setup: &Setup, p: Particles, dt: f64, duration: f64) -> Closure {
         ledger: l,
         state: s,
     }
-}
-
-/// The closure at `dt` and `dt/2` against a bound first order in Δt (the ledger's
-/// terms are exact per step; the dashpots and the slip are read at the half step while
-/// the force acts over the whole: docs/architecture.md, *The energy ledger*): below
-/// `bound` at Δt and below half of it at Δt/2.
-fn converges(what: &str, run: impl Fn(f64) -> Closure, dt: f64, bound: f64) -> Closure {
-    let coarse = run(dt);
-    let fine = run(0.5 * dt);
-    eprintln!(
-        "{what} ({}D): residual {:.3e} at dt {dt:e}, {:.3e} at dt/2 (ratio {:.3}); ledger {:?}",
-        DIM,
-        coarse.residual,
-        fine.residual,
-        fine.residual / coarse.residual,
-        fine.ledger
-    );
-    assert!(
-        coarse.residual < bound && fine.residual < 0.5 * bound,
-        "{what}: residuals {} at dt and {} at dt/2 against {bound} and its half",
-        coarse.residual,
-        fine.residual
-    );
-    fine
 }
 
 /// Two spheres of radius `r` meeting at `closing` speed along x, the second moving
@@ -356,13 +278,7 @@ fn a_bed_settling_under_the_full_law_closes() {
             }
         }
         // Grains on a loose lattice above it, with random velocities and spins.
-        let mut k = 7u64;
-        let mut noise = || {
-            k = k
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (k >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut noise = noise();
         let (count, pitch) = (if DIM == 3 { 192 } else { 48 }, 2.2e-3);
         let per = (width / pitch) as usize;
         let layer = if DIM == 3 { per * per } else { per };

@@ -558,6 +558,16 @@ fn checks(
                     ));
                 }
             }
+            CheckSpec::EnergyClosure { max, .. } => {
+                positive(&format!("check[{k}].max"), *max)?;
+                if !s.analysis.energy_ledger {
+                    return Err(InputError::new(
+                        "analysis.energy_ledger",
+                        "false",
+                        format!("check[{k}] (energy_closure) needs the energy ledger on"),
+                    ));
+                }
+            }
             CheckSpec::Beverloo {
                 wall,
                 after,

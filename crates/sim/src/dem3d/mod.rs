@@ -7,6 +7,7 @@
 pub mod assemble;
 pub mod collapse;
 pub mod drum;
+pub mod ledger;
 pub mod output;
 pub mod packing;
 pub mod pour;
@@ -51,6 +52,8 @@ pub struct Dem3 {
     pub pour: Option<pour::Pour>,
     /// Walls taken away during the run and when ([`walls::release`]).
     pub releases: Vec<(usize, f64)>,
+    /// The energy ledger's start and what pours brought in ([`ledger`]).
+    pub books: ledger::Books,
 }
 
 impl Dem3 {
@@ -82,6 +85,7 @@ impl Dem3 {
             outside: Outside::default(),
             pour: None,
             releases: Vec::new(),
+            books: ledger::Books::default(),
         }
     }
 }
@@ -110,7 +114,10 @@ impl Simulation for Dem3 {
             step_with(&self.setup, &mut self.state, self.dt, &mut hook);
         }
         if let Some(p) = &mut self.pour {
-            p.pour(&self.setup, &mut self.state);
+            let n = p.pour(&self.setup, &mut self.state);
+            if n > 0 && self.state.ledger.is_some() {
+                self.books.poured += ledger::brought_in(self, n);
+            }
         }
         Ok(())
     }
@@ -155,6 +162,7 @@ impl Simulation for Dem3 {
     fn checkpoint(&self) -> Option<Vec<u8>> {
         let mut bytes = Vec::with_capacity(400 * self.state.particles.len());
         grains_dem3d::checkpoint::write(&self.state, &mut bytes).ok()?;
+        ledger::write_tail(self, &mut bytes).ok()?;
         Some(bytes)
     }
 }
@@ -171,6 +179,9 @@ impl Recorded for Dem3 {
             if axis.is_some() {
                 c.push(format!("{}_torque_axis", walls[w]));
             }
+        }
+        if self.state.ledger.is_some() {
+            c.extend(ledger::COLUMNS.map(String::from));
         }
         c
     }
@@ -193,6 +204,7 @@ impl Recorded for Dem3 {
                 row.push(load.torque.dot(u));
             }
         }
+        row.extend(ledger::row(self, d).unwrap_or_default());
         row
     }
 }

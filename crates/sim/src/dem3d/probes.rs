@@ -167,6 +167,7 @@ impl Observer<Dem3> for Probes {
     }
 
     fn on_end(&mut self, sim: &Dem3, _status: &Status, report: &mut Report) -> anyhow::Result<()> {
+        let d = grains_dem3d::diagnostics::measure(&sim.setup, &sim.state);
         let (setup, s) = (&sim.setup, &sim.state);
         let p = &s.particles;
         for (k, (spec, slot)) in self.specs.iter().zip(&self.impacts).enumerate() {
@@ -275,6 +276,9 @@ impl Observer<Dem3> for Probes {
                         .as_ref()
                         .map_or(f64::NAN, |d| d.torque_over_moment());
                     Check::relative(name, r, 1.0, tol)
+                }
+                (CheckSpec::EnergyClosure { max, .. }, _) => {
+                    super::ledger::check(name, sim, &d, *max)
                 }
                 (CheckSpec::Collision { .. }, None) => Check::relative(name, f64::NAN, 1.0, tol)
                     .with_note("the particle has no partner"),

@@ -3,6 +3,7 @@
 //! exactly as if it had never stopped.
 
 use super::assemble::{assemble, Assembled};
+use super::ledger::Books;
 use super::probes::Probes;
 use super::scenario::{Scenario, SphereSource};
 use super::{Dem3, CAPABILITIES};
@@ -19,11 +20,12 @@ use crate::run::{
 use crate::source::Source;
 use grains_core::history::History;
 use grains_dem3d::diagnostics::Diagnostics;
-use grains_dem3d::State;
+use grains_dem3d::{EnergyLedger, State};
 use std::path::{Path, PathBuf};
 
-/// A checkpoint read back: the run loop's progress and the engine state.
-pub type Resume = checkpoint::Resumed<State>;
+/// A checkpoint read back: the run loop's progress, the engine state and the energy
+/// ledger's books.
+pub type Resume = checkpoint::Resumed<(State, Books)>;
 
 /// Reads `dir/checkpoint.bin` for the scenario copy in `dir`.
 pub fn load_checkpoint(s: &Scenario, src: &Source, dir: &Path) -> Result<Resume, RunError> {
@@ -33,8 +35,12 @@ pub fn load_checkpoint(s: &Scenario, src: &Source, dir: &Path) -> Result<Resume,
         dir,
         &src.text,
         walls,
-        |r| grains_dem3d::checkpoint::read(r, 1 << 31),
-        |state| state.contacts.n_walls,
+        |r| {
+            let mut state = grains_dem3d::checkpoint::read(r, 1 << 31)?;
+            let books = super::ledger::read_tail(r, &mut state)?;
+            Ok((state, books))
+        },
+        |(state, _)| state.contacts.n_walls,
     )
     .map_err(RunError::Input)
 }
@@ -139,11 +145,19 @@ pub fn open(
     let mut sim = match &resume {
         None => Dem3::new(setup, particles, dt).map_err(input)?,
         Some(r) => {
-            grains_dem3d::checkpoint::fits(&r.state, &setup)
+            grains_dem3d::checkpoint::fits(&r.state.0, &setup)
                 .map_err(|e| RunError::Input(format!("{}: checkpoint: {e}", opts.out.display())))?;
-            Dem3::resumed(setup, r.state.clone(), dt)
+            let mut sim = Dem3::resumed(setup, r.state.0.clone(), dt);
+            sim.books = r.state.1;
+            sim
         }
     };
+    if resume.is_none() && s.analysis.energy_ledger {
+        // Both laws split their dissipation: a refusal leaves the ledger off.
+        sim.state.ledger = EnergyLedger::starting(&sim.setup, &sim.state).ok();
+        let d = grains_dem3d::diagnostics::measure(&sim.setup, &sim.state);
+        super::ledger::open(&mut sim, &d);
+    }
     sim.lammps_dump = s.output.lammps_dump;
     sim.releases = super::walls::releases(s, &sim.setup.walls);
     super::walls::release(&mut sim.setup.walls, &sim.releases, sim.state.time);
@@ -227,12 +241,13 @@ impl Live for Dem3Run {
 
     fn conclude(&mut self, outcome: Outcome, threads: usize) -> Result<Finished, RunError> {
         let (sim, out) = (&self.sim, &self.out);
-        super::output::write_plots(
-            &out.join("plots"),
-            &self.history.history,
-            &sim.setup,
-            &sim.state,
-        )?;
+        let h = &self.history.history;
+        super::output::write_plots(&out.join("plots"), h, &sim.setup, &sim.state)?;
+        super::ledger::plot(&out.join("plots"), h)?;
+        let mut outcome = outcome;
+        if let Some(l) = super::ledger::figures(h) {
+            outcome.report.figures.insert("energy_ledger".into(), l);
+        }
         let mut counts = serde_json::Map::new();
         counts.insert("dimensions".into(), 3.into());
         counts.insert("neighbour_builds".into(), sim.state.contacts.builds.into());

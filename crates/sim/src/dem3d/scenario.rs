@@ -46,9 +46,36 @@ pub struct Scenario {
     /// What is written and how often.
     #[serde(default)]
     pub output: crate::output::OutputSpec,
+    /// What the run analyses beside its history.
+    #[serde(default)]
+    pub analysis: AnalysisSpec,
     /// Validation checks written into summary.json.
     #[serde(rename = "check", default)]
     pub checks: Vec<CheckSpec>,
+}
+
+/// `[analysis]`: what the run analyses beside its history.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnalysisSpec {
+    /// Keep the grains' energy ledger (stored contact energy, dissipation by kind, the
+    /// law's changes without work, the walls' and pours' work in; history columns,
+    /// `plots/energy_ledger.png`, `figures.energy_ledger`), as the FEM–DEM ring's
+    /// `[analysis] energy_ledger`. Default on: it changes nothing in the run.
+    #[serde(default = "default_true")]
+    pub energy_ledger: bool,
+}
+
+impl Default for AnalysisSpec {
+    fn default() -> Self {
+        AnalysisSpec {
+            energy_ledger: true,
+        }
+    }
+}
+
+fn default_true() -> bool {
+    true
 }
 
 /// `[domain]`: box corners and periodicity along x, y, z.
@@ -383,6 +410,15 @@ pub enum CheckSpec {
         /// Relative tolerance.
         tolerance: f64,
     },
+    /// The energy ledger's closure at the end: |kinetic + potential + stored + booked −
+    /// work in − initial| over the energy booked through the ledger, at most `max`
+    /// (`super::ledger`).
+    EnergyClosure {
+        /// Check name.
+        name: String,
+        /// The largest closure allowed.
+        max: f64,
+    },
     /// The mean torque of the grains on the drum `wall` about its axis over the mean
     /// moment of their weight about it, from `after` on (expected 1).
     DrumTorque {
@@ -408,6 +444,7 @@ impl CheckSpec {
             | CheckSpec::Beverloo { name, .. }
             | CheckSpec::DrumTorque { name, .. }
             | CheckSpec::Runout { name, .. }
+            | CheckSpec::EnergyClosure { name, .. }
             | CheckSpec::PouredMass { name, .. } => name,
         }
     }
@@ -421,7 +458,9 @@ impl CheckSpec {
             | CheckSpec::DrumTorque { tolerance, .. }
             | CheckSpec::Runout { tolerance, .. }
             | CheckSpec::PouredMass { tolerance, .. } => Some(*tolerance),
-            CheckSpec::ReposeAngle { .. } | CheckSpec::Beverloo { .. } => None,
+            CheckSpec::ReposeAngle { .. }
+            | CheckSpec::Beverloo { .. }
+            | CheckSpec::EnergyClosure { .. } => None,
         }
     }
 }
