@@ -2,6 +2,7 @@
 //! Nothing here changes the run (contact history included).
 
 use crate::comm::{Reduce, Serial};
+use crate::exact::ExactSums;
 use crate::law::ContactLaw;
 use crate::math::{AngVector, Components, Tangent, TangentOps, Vector, DIM};
 use crate::particles::Particles;
@@ -54,8 +55,8 @@ impl Diagnostics {
 }
 
 /// Measures a state. Each particle's terms (its pairs with higher ids and its walls
-/// counted with it) are added in ascending id, so the figures depend neither on the
-/// thread count nor on where the particles are stored, on one rank or several.
+/// counted with it) are added exactly and rounded once, so the figures depend neither
+/// on the thread count nor on where the particles are stored, on one rank or several.
 pub fn measure(setup: &Setup, s: &State) -> Diagnostics {
     measure_on(setup, s, &Serial)
 }
@@ -72,10 +73,10 @@ const TERMS: usize = 4 + DIM;
 /// [`measure_on`] of a rank that `owns` some of the particles it stores (by index; the
 /// others are copies of another rank's, as in [`crate::decomp`]): its own particles'
 /// terms and wall contacts, and each touching pair once, with the particle of the lower
-/// id on the rank that owns it. The terms of every rank's particles are gathered and
-/// added in ascending id (docs/parallel.md, rule 2): the figures are the serial ones bit
-/// for bit on any rank count. (Each rank sends 1 + [`TERMS`] words per particle: the
-/// figures are taken at output times, not every step.)
+/// id on the rank that owns it. The terms are added exactly ([`ExactSums`]) and rounded
+/// once (docs/parallel.md, rule 2): the figures are the same bit for bit whatever the
+/// storage order, thread count or rank count, and ranks exchange a fixed number of words
+/// whatever their particle count.
 pub fn measure_where<R: Reduce + ?Sized>(
     setup: &Setup,
     s: &State,
@@ -83,26 +84,23 @@ pub fn measure_where<R: Reduce + ?Sized>(
     owns: impl Fn(usize) -> bool + Sync,
 ) -> Diagnostics {
     let (mut d, terms) = measure_here(setup, s, &owns);
-    let p = &s.particles;
-    let mut by_id: Vec<(u32, [f64; TERMS])> = (0..p.len())
-        .filter(|&i| owns(i))
-        .map(|i| (p.id[i], terms[i]))
-        .collect();
+    let sums = terms
+        .par_chunks(CHUNK)
+        .enumerate()
+        .map(|(c, ts)| {
+            let mut sum = ExactSums::<TERMS>::default();
+            for (k, t) in ts.iter().enumerate() {
+                if owns(c * CHUNK + k) {
+                    sum.add(t);
+                }
+            }
+            sum
+        })
+        .reduce(ExactSums::default, |mut a, b| {
+            a.merge(&b);
+            a
+        });
     if reduce.ranks() > 1 {
-        let words = by_id
-            .iter()
-            .flat_map(|(id, t)| std::iter::once(*id as u64).chain(t.iter().map(|x| x.to_bits())))
-            .collect();
-        by_id = reduce
-            .gather(words)
-            .chunks_exact(1 + TERMS)
-            .map(|w| {
-                (
-                    w[0] as u32,
-                    std::array::from_fn(|k| f64::from_bits(w[1 + k])),
-                )
-            })
-            .collect();
         let mut counts = [
             d.pair_contacts as u64,
             d.wall_contacts as u64,
@@ -116,13 +114,7 @@ pub fn measure_where<R: Reduce + ?Sized>(
         d.finite = counts[2] == 0;
         d.max_overlap_ratio = worst[0];
     }
-    by_id.par_sort_unstable_by_key(|r| r.0);
-    let mut sum = [0.0; TERMS];
-    for (_, t) in &by_id {
-        for (a, b) in sum.iter_mut().zip(t) {
-            *a += b;
-        }
-    }
+    let sum = sums.total(reduce);
     d.kinetic_translational = sum[0];
     d.kinetic_rotational = sum[1];
     d.potential = sum[2];

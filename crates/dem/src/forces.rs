@@ -174,7 +174,7 @@ pub fn pair_contacts_on<R: Reduce + ?Sized>(
                 }
                 None => dispatch::<On>(setup, p, list, dt, &mut rows),
             }
-            let pass = crate::ledger::in_id_order(&rows, &p.id, owns, reduce, &mut list.by_id);
+            let pass = crate::ledger::summed(&rows, owns, reduce);
             list.ledger_rows = rows;
             l.record(&pass);
         }

@@ -1,11 +1,13 @@
 //! Velocity-Verlet integration, fused with gravity, walls and the gathering of pair
 //! forces, so each stage is one sweep over the particles.
 
+use crate::comm::Reduce;
 use crate::domain::Image;
+use crate::exact::ExactSums;
 use crate::forces::contact_force;
 use crate::law::{ContactLaw, Prior, Response};
 use crate::ledger::PassTally;
-use crate::math::{self, AngVector, Vector};
+use crate::math::{self, AngVector, Components, Vector, DIM};
 use crate::neighbours::{ContactList, GranularHistory};
 use crate::particles::Particles;
 use crate::setup::Setup;
@@ -22,6 +24,60 @@ pub struct WallLoad {
     pub torque: AngVector,
     /// Number of particles touching it.
     pub contacts: u32,
+}
+
+/// Components of a wall's load: force, then torque.
+const LOAD: usize = DIM + math::ANG;
+
+/// One rank's part of a wall's load, added exactly ([`ExactSums`]), so that the loads
+/// are the same bit for bit on any thread and rank count (docs/parallel.md, rule 2).
+#[derive(Clone, Debug, Default)]
+pub struct WallSum {
+    /// Force components, then torque components.
+    sums: ExactSums<LOAD>,
+    /// Particles touching the wall.
+    contacts: u64,
+}
+
+impl WallSum {
+    fn add(&mut self, force: Vector, torque: AngVector) {
+        let mut t = [0.0; LOAD];
+        for (a, x) in t.iter_mut().enumerate().take(DIM) {
+            *x = force.get(a);
+        }
+        for a in 0..math::ANG {
+            t[DIM + a] = torque.get(a);
+        }
+        self.sums.add(&t);
+        self.contacts += 1;
+    }
+
+    fn merge(&mut self, other: &WallSum) {
+        self.sums.merge(&other.sums);
+        self.contacts += other.contacts;
+    }
+}
+
+/// The walls' loads from every rank's parts, through `reduce` (one integer sum).
+pub fn wall_loads<R: Reduce + ?Sized>(parts: &[WallSum], reduce: &R) -> Vec<WallLoad> {
+    let mut n: Vec<u64> = parts.iter().map(|w| w.contacts).collect();
+    let mut words: Vec<u64> = parts.iter().flat_map(|w| w.sums.to_words()).collect();
+    if reduce.ranks() > 1 {
+        reduce.sum_u64(&mut n);
+        reduce.sum_u64(&mut words);
+    }
+    words
+        .chunks_exact(ExactSums::<LOAD>::WORDS)
+        .zip(n)
+        .map(|(w, n)| {
+            let t = ExactSums::<LOAD>::from_words(w).values();
+            WallLoad {
+                force: Vector::from_slice(&t[..DIM]),
+                torque: AngVector::from_slice(&t[DIM..]),
+                contacts: n as u32,
+            }
+        })
+        .collect()
 }
 
 /// How far the particles went in a [`kick_drift`].
@@ -199,8 +255,8 @@ fn kick_drift_chunks<const P: u8>(
 /// total force and torque, and applies a kick of `kick` × acceleration to the velocities
 /// (½Δt to close a Verlet step; 0 for the initial evaluation).
 ///
-/// Returns the load on each wall, summed over fixed chunks in order so that it is
-/// bitwise the same whatever the thread count. With `rows` (one per particle), each
+/// Returns this rank's part of the load on each wall, added exactly so that it is
+/// bitwise the same whatever the thread count ([`wall_loads`] rounds it). With `rows` (one per particle), each
 /// particle's wall contacts' ledger terms are left there ([`crate::ledger`]); the
 /// forces are the same either way.
 pub fn walls_gather_kick(
@@ -210,7 +266,7 @@ pub fn walls_gather_kick(
     dt_shear: f64,
     kick: f64,
     rows: Option<&mut [PassTally]>,
-) -> Vec<WallLoad> {
+) -> Vec<WallSum> {
     let n = p.len();
     let rows: Vec<&mut [PassTally]> = match rows {
         Some(r) => r.chunks_mut(CHUNK).collect(),
@@ -248,7 +304,7 @@ pub fn walls_gather_kick(
     let (rev_row, rev_entry, wall_near) = (&list.rev_row, &list.rev_entry, &list.wall_near);
     let gravity = setup.gravity;
 
-    let partial: Vec<Vec<WallLoad>> = p
+    let partial: Vec<Vec<WallSum>> = p
         .vel
         .par_chunks_mut(CHUNK)
         .zip(p.omega.par_chunks_mut(CHUNK))
@@ -259,7 +315,7 @@ pub fn walls_gather_kick(
         .zip(rows)
         .enumerate()
         .map(|(c, ((((((vel, omega), force), torque), ws), wh), book))| {
-            let mut loads = vec![WallLoad::default(); nw];
+            let mut loads = vec![WallSum::default(); nw];
             for k in 0..vel.len() {
                 let i = c * CHUNK + k;
                 let mut terms = PassTally::default();
@@ -381,9 +437,7 @@ pub fn walls_gather_kick(
                     f += fw;
                     tq += tw;
                     let arm = at - setup.walls[w].shape.reference();
-                    loads[w].force -= fw;
-                    loads[w].torque -= math::cross(arm, fw);
-                    loads[w].contacts += 1;
+                    loads[w].add(-fw, -math::cross(arm, fw));
                 }
                 if let Some(b) = book.get_mut(k) {
                     *b = terms;
@@ -397,12 +451,10 @@ pub fn walls_gather_kick(
         })
         .collect();
 
-    let mut total = vec![WallLoad::default(); nw];
+    let mut total = vec![WallSum::default(); nw];
     for loads in partial {
-        for (t, l) in total.iter_mut().zip(loads) {
-            t.force += l.force;
-            t.torque += l.torque;
-            t.contacts += l.contacts;
+        for (t, l) in total.iter_mut().zip(&loads) {
+            t.merge(l);
         }
     }
     total

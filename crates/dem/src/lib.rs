@@ -24,6 +24,7 @@ pub mod contact;
 pub mod decomp;
 pub mod diagnostics;
 pub mod domain;
+pub mod exact;
 pub mod forces;
 pub mod granular;
 pub mod granular_ledger;

@@ -7,10 +7,10 @@
 
 use crate::comm::{Exchange, Reduce, Serial};
 use crate::forces::{pair_contacts, pair_contacts_on};
-use crate::integrate::{kick_drift, walls_gather_kick, Drift, WallLoad};
+use crate::integrate::{kick_drift, wall_loads, walls_gather_kick, Drift, WallLoad};
 use crate::ledger::EnergyLedger;
 use crate::math::Components;
-use crate::math::{AngVector, Vector};
+use crate::math::Vector;
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
@@ -46,7 +46,8 @@ impl State {
         };
         s.contacts.rebuild(setup, &mut s.particles);
         pair_contacts(setup, &mut s.particles, &mut s.contacts, 0.0, None);
-        s.wall_loads = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, 0.0, 0.0, None);
+        let parts = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, 0.0, 0.0, None);
+        s.wall_loads = wall_loads(&parts, &crate::comm::Serial);
         s
     }
 }
@@ -128,25 +129,23 @@ pub fn step_on<H: Hooks, C: Exchange>(
         |i| c.owns(i),
     );
     hooks.post_force(&mut s.particles);
-    s.wall_loads = match s.ledger.as_mut() {
+    let parts = match s.ledger.as_mut() {
         None => walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt, None),
         Some(l) => {
-            // The wall terms are added in ascending id, as the pairs' are.
+            // The wall terms are added exactly, as the pairs' are.
             let list = &mut s.contacts;
             let mut rows = std::mem::take(&mut list.ledger_rows);
             rows.resize(s.particles.len(), Default::default());
             let p = &mut s.particles;
             let loads = walls_gather_kick(setup, p, list, dt, 0.5 * dt, Some(&mut rows));
             let c: &C = comm;
-            let pass = crate::ledger::in_id_order(&rows, &p.id, |i| c.owns(i), c, &mut list.by_id);
+            let pass = crate::ledger::summed(&rows, |i| c.owns(i), c);
             list.ledger_rows = rows;
             l.record_walls(&pass);
             loads
         }
     };
-    if comm.ranks() > 1 {
-        global_wall_loads(&mut s.wall_loads, comm);
-    }
+    s.wall_loads = wall_loads(&parts, &*comm);
     comm.refresh(setup, &mut s.particles);
     s.time += dt;
     s.step += 1;
@@ -215,23 +214,4 @@ fn global_drift<C: Reduce>(setup: &Setup, d: Drift, comm: &C) -> Drift {
     out.sums.displacement = Vector::from_slice(&sums);
     out.sums.normal = Vector::from_slice(&sums[Vector::N..]);
     out
-}
-
-/// The load on each wall from the particles of every rank.
-fn global_wall_loads<C: Reduce>(loads: &mut [WallLoad], comm: &C) {
-    let mut v = Vec::with_capacity(loads.len() * (Vector::N + AngVector::N));
-    let mut n: Vec<u64> = loads.iter().map(|l| l.contacts as u64).collect();
-    for l in loads.iter() {
-        v.extend((0..Vector::N).map(|a| l.force.get(a)));
-        v.extend((0..AngVector::N).map(|a| l.torque.get(a)));
-    }
-    comm.sum(&mut v);
-    comm.sum_u64(&mut n);
-    let width = Vector::N + AngVector::N;
-    for (w, l) in loads.iter_mut().enumerate() {
-        let at = &v[w * width..(w + 1) * width];
-        l.force = Vector::from_slice(at);
-        l.torque = AngVector::from_slice(&at[Vector::N..]);
-        l.contacts = n[w] as u32;
-    }
 }

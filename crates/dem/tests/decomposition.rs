@@ -283,8 +283,8 @@ fn a_settled_bed_keeps_its_contacts_and_springs_through_migration() {
 /// A bed of 2,000 disks set on a squeezed triangular lattice (most overlap several
 /// neighbours, so a force is a sum of up to six terms, whose order matters) that
 /// springs apart and falls onto the floor, on 1, 2 (2 × 1 and 1 × 2) and 4 (2 × 2) ranks
-/// at 1 and 2 threads each: the state hash is the serial one every 250 steps. Disks
-/// cross the cuts, so they migrate with their springs.
+/// at 1 and 2 threads each: the state hash and the floor's load are the serial ones
+/// every 250 steps. Disks cross the cuts, so they migrate with their springs.
 #[test]
 fn a_dense_bed_has_the_serial_hash_on_1_2_and_4_ranks_and_threads() {
     let (set, mut p) = peer::bed(2000, 40);
@@ -297,7 +297,7 @@ fn a_dense_bed_has_the_serial_hash_on_1_2_and_4_ranks_and_threads() {
     for k in 0..steps {
         step(&set, &mut serial, dt);
         if k % every == every - 1 {
-            hashes.push(state_hash(&serial));
+            hashes.push((state_hash(&serial), serial.wall_loads.clone()));
             let (p, l) = (&serial.particles, &serial.contacts);
             let mut touching = vec![0; p.len()];
             for e in 0..l.nbr.len() {
@@ -319,14 +319,17 @@ fn a_dense_bed_has_the_serial_hash_on_1_2_and_4_ranks_and_threads() {
         for k in 0..steps {
             step(&set, &mut s, dt);
             if k % every == every - 1 {
-                hs.push(state_hash(&s));
+                hs.push((state_hash(&s), s.wall_loads.clone()));
             }
         }
         hs
     });
     assert_eq!(on_two, hashes, "serial, 2 threads");
+    // The floor's load too: its terms are added exactly (docs/parallel.md, rule 2).
+    let floor = hashes.last().unwrap().1[0].contacts;
+    assert!(floor > 10, "{floor} disks on the floor");
     on_grids(&set, &whole, (dt, steps, every), &hashes, |d, s| {
-        d.state_hash(s)
+        (d.state_hash(s), s.wall_loads.clone())
     });
 }
 

@@ -60,10 +60,10 @@ fn files(dir: &Path) -> Vec<PathBuf> {
     all
 }
 
-/// The energy columns of a history (the wall loads are summed per rank, equal to
-/// rounding only: docs/parallel.md).
-fn energies(dir: &Path) -> Vec<Vec<String>> {
-    columns_but(dir, |c| c.starts_with("floor"))
+/// Every column of a history, the wall loads included (added exactly on any rank
+/// count: docs/parallel.md, rule 2).
+fn every_column(dir: &Path) -> Vec<Vec<String>> {
+    columns_but(dir, |_| false)
 }
 
 /// The history's columns but those `skip` names, as written.
@@ -112,8 +112,8 @@ fn a_2d_dem_run_on_2_and_4_ranks_is_the_serial_run() {
             "{n} ranks"
         );
         assert_eq!(
-            energies(&out),
-            energies(&dir.path().join("serial")),
+            every_column(&out),
+            every_column(&dir.path().join("serial")),
             "{n} ranks"
         );
     }
@@ -276,8 +276,8 @@ fn hashed(done: Vec<Result<Finished, String>>, want: &str, what: &str) -> Finish
     leader
 }
 
-/// What a checkpoint in `dir` holds of the state, apart from the wall loads (summed per
-/// rank) and the build positions (taken where the writing run's list was built): every
+/// What a checkpoint in `dir` holds of the state, apart from the build positions (taken
+/// where the writing run's list was built): every
 /// particle field in storage order and the list's rows, partners and springs.
 fn saved(dir: &Path, src: &Source) -> Vec<u64> {
     let file = dir.join("checkpoint.bin");
@@ -294,6 +294,10 @@ fn saved(dir: &Path, src: &Source) -> Vec<u64> {
     w.extend(c.row.iter().chain(&c.nbr).map(|&i| i as u64));
     w.extend(c.shear.iter().map(|x| x.to_bits()));
     w.extend(c.wall_shear.iter().map(|x| x.to_bits()));
+    for l in &s.wall_loads {
+        w.extend([l.force.x, l.force.y, l.torque].map(f64::to_bits));
+        w.push(l.contacts as u64);
+    }
     w.push(s.step);
     w.push(s.time.to_bits());
     w
@@ -306,11 +310,11 @@ fn copy_dir(from: &Path, to: &Path) {
     }
 }
 
-/// The history without what a restart on another rank count may change: the wall loads
-/// (summed per rank) and the neighbour builds (the resumed run's list starts at the
-/// checkpoint, so it is rebuilt at other steps; the forces do not depend on when).
+/// The history without what a restart on another rank count may change: the neighbour
+/// builds (the resumed run's list starts at the checkpoint, so it is rebuilt at other
+/// steps; the forces do not depend on when).
 fn restart_invariant(dir: &Path) -> Vec<Vec<String>> {
-    columns_but(dir, |c| c.starts_with("floor") || c == "neighbour_builds")
+    columns_but(dir, |c| c == "neighbour_builds")
 }
 
 /// A run stopped with a checkpoint on one rank count and resumed on another ends as the
