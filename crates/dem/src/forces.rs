@@ -174,7 +174,7 @@ pub fn pair_contacts_on<R: Reduce + ?Sized>(
                 }
                 None => dispatch::<On>(setup, p, list, dt, &mut rows),
             }
-            let pass = crate::ledger::summed(&rows, owns, reduce);
+            let pass = crate::ledger::in_id_order(&rows, &p.id, owns, reduce, &mut list.by_id);
             list.ledger_rows = rows;
             l.record(&pass);
         }

@@ -40,13 +40,11 @@
 //! version of the pass compiled for it ([`Tally`]): without the ledger the pass is the
 //! code it was, and with it the forces and the state are the same bit for bit.
 
-use crate::exact::ExactSums;
 use crate::granular::GranularParams;
 use crate::law::{ContactLaw, LedgerTerms};
 use crate::math::TangentOps;
 use crate::setup::Setup;
 use crate::step::State;
-use rayon::prelude::*;
 use std::ops::AddAssign;
 
 /// A ledger asked of a law that does not split its dissipation (the granular law).
@@ -321,35 +319,50 @@ fn wall_springs(setup: &Setup, s: &State) -> Springs {
 }
 
 /// What one pair pass adds up, the law's [`LedgerTerms`] summed per particle (its row),
-/// then over the particles exactly ([`summed`]).
+/// then over the particles in ascending id ([`in_id_order`]).
 pub(crate) type PassTally = LedgerTerms;
 
 /// The pass's total from each stored particle's row terms `rows` (its pairs with higher
-/// ids): the rows of the particles this rank `owns`, added exactly and summed over the
-/// ranks of `reduce` ([`ExactSums`]), so that each pair counts once (on the rank that
-/// owns its lower id) and the total is the same bit for bit whatever the storage order,
-/// thread count or rank count, with a fixed number of words exchanged.
-pub(crate) fn summed<R: crate::comm::Reduce + ?Sized>(
+/// ids): the rows of the particles this rank `owns`, gathered from every rank through
+/// `reduce` and added in ascending id, so that each pair counts once (on the rank that
+/// owns its lower id) and the sum is the same bit for bit on any rank count. On one rank
+/// the particles are taken in the order `by_id` (indices in ascending id, made when it
+/// is empty or of another length: a rebuild, which re-sorts the particles, clears it),
+/// with nothing gathered.
+pub(crate) fn in_id_order<R: crate::comm::Reduce + ?Sized>(
     rows: &[PassTally],
+    id: &[u32],
     owns: impl Fn(usize) -> bool,
     reduce: &R,
+    by_id: &mut Vec<u32>,
 ) -> PassTally {
-    let mine: Vec<bool> = (0..rows.len()).map(owns).collect();
-    let sums = rows
-        .par_chunks(crate::CHUNK)
-        .zip(mine.par_chunks(crate::CHUNK))
-        .map(|(rs, mine)| {
-            let mut sum = ExactSums::<WORDS>::default();
-            for (r, _) in rs.iter().zip(mine).filter(|(_, &m)| m) {
-                sum.add(&r.words());
-            }
-            sum
-        })
-        .reduce(ExactSums::default, |mut a, b| {
-            a.merge(&b);
-            a
-        });
-    PassTally::from_words(sums.total(reduce))
+    let mut total = PassTally::default();
+    if reduce.ranks() == 1 {
+        if by_id.len() != id.len() {
+            *by_id = (0..id.len() as u32).collect();
+            by_id.sort_unstable_by_key(|&i| id[i as usize]);
+        }
+        for &i in by_id.iter() {
+            total += rows[i as usize];
+        }
+        return total;
+    }
+    let mut words = Vec::with_capacity((1 + WORDS) * rows.len());
+    for (i, r) in rows.iter().enumerate().filter(|&(i, _)| owns(i)) {
+        words.push(id[i] as u64);
+        words.extend(r.words().map(f64::to_bits));
+    }
+    let words = reduce.gather(words);
+    let mut records: Vec<&[u64]> = words.chunks_exact(1 + WORDS).collect();
+    records.sort_unstable_by_key(|r| r[0]);
+    for r in records {
+        let mut w = [0.0; WORDS];
+        for (k, x) in w.iter_mut().enumerate() {
+            *x = f64::from_bits(r[1 + k]);
+        }
+        total += PassTally::from_words(w);
+    }
+    total
 }
 
 /// Numbers in an [`EnergyLedger`] ([`EnergyLedger::to_words`]).

@@ -132,14 +132,14 @@ pub fn step_on<H: Hooks, C: Exchange>(
     let parts = match s.ledger.as_mut() {
         None => walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt, None),
         Some(l) => {
-            // The wall terms are added exactly, as the pairs' are.
+            // The wall terms are added in ascending id, as the pairs' are.
             let list = &mut s.contacts;
             let mut rows = std::mem::take(&mut list.ledger_rows);
             rows.resize(s.particles.len(), Default::default());
             let p = &mut s.particles;
             let loads = walls_gather_kick(setup, p, list, dt, 0.5 * dt, Some(&mut rows));
             let c: &C = comm;
-            let pass = crate::ledger::summed(&rows, |i| c.owns(i), c);
+            let pass = crate::ledger::in_id_order(&rows, &p.id, |i| c.owns(i), c, &mut list.by_id);
             list.ledger_rows = rows;
             l.record_walls(&pass);
             loads
