@@ -40,7 +40,12 @@ pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
     math::put(w, &p.torque)?;
     put_u32(w, &c.row)?;
     put_u32(w, &c.nbr)?;
-    math::put(w, &c.shear)?;
+    // A granular list keeps no linear springs; the file holds zeros in their place, so
+    // its layout does not depend on the law.
+    match c.shear.len() == c.nbr.len() {
+        true => math::put(w, &c.shear)?,
+        false => math::put(w, &vec![Tangent::default(); c.nbr.len()])?,
+    }
     math::put(w, &c.fpair)?;
     math::put(w, &c.ftan)?;
     put_u32(w, &c.rev_row)?;

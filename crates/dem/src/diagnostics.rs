@@ -363,62 +363,113 @@ pub fn state_hash_on<R: Reduce + ?Sized>(
     let p = &s.particles;
     // A pair is counted by the rank that owns its lower id.
     let counts = |i: usize, j: usize| owns(if p.id[i] < p.id[j] { i } else { j });
-    let width = 2 * Vector::N + AngVector::N;
-    let mut bodies = Vec::with_capacity(p.len() * (1 + width));
-    for i in (0..p.len()).filter(|&i| owns(i)) {
-        let (x, v, w) = (p.pos[i], p.vel[i], p.omega[i]);
-        bodies.push(p.id[i] as u64);
-        let parts = (0..Vector::N).map(|a| x.get(a));
-        let parts = parts.chain((0..Vector::N).map(|a| v.get(a)));
-        let parts = parts.chain((0..AngVector::N).map(|a| w.get(a)));
-        bodies.extend(parts.map(f64::to_bits));
-    }
     let list = &s.contacts;
+    let mut h = grains_core::hash::Fnv1a::default();
+    // Each group is keyed, sorted and hashed before the next is made: at the end of a run
+    // the hash's own records were the peak of the whole run's memory.
+    let bodies: Vec<(u64, u32)> = (0..p.len())
+        .filter(|&i| owns(i))
+        .map(|i| (p.id[i] as u64, i as u32))
+        .collect();
+    hash_records(
+        &mut h,
+        reduce,
+        bodies,
+        (1 + 2 * Vector::N + AngVector::N, false),
+        |i, put| {
+            let (x, v, w) = (p.pos[i], p.vel[i], p.omega[i]);
+            (0..Vector::N).for_each(|a| put(x.get(a).to_bits()));
+            (0..Vector::N).for_each(|a| put(v.get(a).to_bits()));
+            (0..AngVector::N).for_each(|a| put(w.get(a).to_bits()));
+        },
+    );
+    let pair_key = |i: usize, j: usize| {
+        let (a, b) = (p.id[i], p.id[j]);
+        (a.min(b) as u64) << 32 | a.max(b) as u64
+    };
     let mut springs = Vec::new();
     for i in 0..p.len() {
         for e in list.row[i] as usize..list.row[i + 1] as usize {
-            if list.shear[e] != Tangent::default() && counts(i, list.nbr[e] as usize) {
-                let (a, b) = (p.id[i], p.id[list.nbr[e] as usize]);
-                springs.push((a.min(b) as u64) << 32 | a.max(b) as u64);
-                springs.extend((0..Tangent::N).map(|a| list.shear[e].get(a).to_bits()));
+            let j = list.nbr[e] as usize;
+            if list.spring(e) != Tangent::default() && counts(i, j) {
+                springs.push((pair_key(i, j), e as u32));
             }
         }
     }
+    hash_records(&mut h, reduce, springs, (1 + Tangent::N, true), |e, put| {
+        let xi = list.spring(e);
+        (0..Tangent::N).for_each(|a| put(xi.get(a).to_bits()));
+    });
     // The granular law's histories, as seen from the lower id (none under the linear law).
-    let mut granular = Vec::new();
-    for e in (0..list.len()).filter(|_| list.history.kept(list.len())) {
-        let g = &list.history.get(e, list.owner[e]);
-        let (i, j) = (list.owner[e] as usize, list.nbr[e] as usize);
-        if g.iter().any(|&x| x != 0.0) && counts(i, j) {
-            let (a, b) = (p.id[i], p.id[j]);
+    let kept = list.history.kept(list.len());
+    let granular: Vec<(u64, u32)> = (0..list.len())
+        .filter(|&e| kept && list.history.slot[e] != crate::history::NONE)
+        .filter(|&e| {
+            let g = list.history.get(e, list.owner[e]);
+            g.iter().any(|&x| x != 0.0) && counts(list.owner[e] as usize, list.nbr[e] as usize)
+        })
+        .map(|e| {
+            (
+                pair_key(list.owner[e] as usize, list.nbr[e] as usize),
+                e as u32,
+            )
+        })
+        .collect();
+    hash_records(
+        &mut h,
+        reduce,
+        granular,
+        (1 + crate::granular::WIDTH, true),
+        |e, put| {
+            let g = list.history.get(e, list.owner[e]);
+            let (a, b) = (p.id[list.owner[e] as usize], p.id[list.nbr[e] as usize]);
             let g = if a > b {
-                crate::granular::swapped(g)
+                crate::granular::swapped(&g)
             } else {
-                *g
+                g
             };
-            granular.push((a.min(b) as u64) << 32 | a.max(b) as u64);
-            granular.extend(g.iter().map(|x| x.to_bits()));
-        }
-    }
-    let mut h = grains_core::hash::Fnv1a::default();
-    // Particles hash their values alone; pairs their key too.
-    for (words, stride, keyed) in [
-        (bodies, 1 + width, false),
-        (springs, 1 + Tangent::N, true),
-        (granular, 1 + crate::granular::WIDTH, true),
-    ] {
-        let words = reduce.gather(words);
-        let mut records: Vec<&[u64]> = words.chunks_exact(stride).collect();
-        records.sort_unstable_by_key(|r| r[0]);
-        for r in records {
-            if keyed {
-                h.word(r[0]);
-            }
-            // The bits of each number, as `Fnv1a::f64` feeds them.
-            for &x in &r[1..] {
-                h.word(x);
-            }
-        }
-    }
+            g.iter().for_each(|x| put(x.to_bits()));
+        },
+    );
     h.finish()
+}
+
+/// Hashes one group of records, each a key and the words `words` gives for an index
+/// (`stride` words in all, the key included), in ascending key (the key itself too where `keyed`). On one rank the records are never
+/// written out: only (key, index) pairs are sorted, a tenth of the words. Over ranks the
+/// words are made and gathered, and hashed in the same order, so both give one hash.
+fn hash_records<R: Reduce + ?Sized>(
+    h: &mut grains_core::hash::Fnv1a,
+    reduce: &R,
+    mut items: Vec<(u64, u32)>,
+    (stride, keyed): (usize, bool),
+    words: impl Fn(usize, &mut dyn FnMut(u64)),
+) {
+    if reduce.ranks() == 1 {
+        items.sort_unstable_by_key(|r| r.0);
+        for (key, at) in items {
+            if keyed {
+                h.word(key);
+            }
+            words(at as usize, &mut |w| h.word(w));
+        }
+        return;
+    }
+    let mut flat = Vec::with_capacity(items.len() * stride);
+    for &(key, at) in &items {
+        flat.push(key);
+        words(at as usize, &mut |w| flat.push(w));
+    }
+    drop(items);
+    let flat = reduce.gather(flat);
+    let mut records: Vec<&[u64]> = flat.chunks_exact(stride).collect();
+    records.sort_unstable_by_key(|r| r[0]);
+    for r in records {
+        if keyed {
+            h.word(r[0]);
+        }
+        for &x in &r[1..] {
+            h.word(x);
+        }
+    }
 }

@@ -37,7 +37,9 @@ pub struct ContactList {
     /// the pair pass walks the entries in one flat loop instead of a short loop per row,
     /// whose exit the processor cannot predict.
     pub owner: Vec<u32>,
-    /// Tangential spring displacement ξ of each entry (m); zero when not touching.
+    /// Tangential spring displacement ξ of each entry (m); zero when not touching. Empty
+    /// under the granular law, whose histories hold its springs ([`ContactList::spring`]
+    /// reads either).
     pub shear: Vec<Tangent>,
     /// Force on the row owner from this entry at the last evaluation (the partner gets
     /// the opposite); zero when the pair does not touch.
@@ -200,6 +202,13 @@ impl ContactList {
         self.nbr.is_empty()
     }
 
+    /// The linear law's spring of entry `e` (zero where the list keeps none: under the
+    /// granular law, and in a list read back before its first rebuild).
+    #[inline]
+    pub fn spring(&self, e: usize) -> Tangent {
+        self.shear.get(e).copied().unwrap_or_default()
+    }
+
     /// The granular law's history of entry `e` (zero where the pair does not touch), or
     /// `None` when the list keeps none (the linear law).
     pub fn granular(&self, e: usize) -> Option<GranularHistory> {
@@ -280,7 +289,8 @@ impl ContactList {
             .into_par_iter()
             .map(|c| {
                 let range = c * CHUNK..((c + 1) * CHUNK).min(n);
-                build_rows(setup, &grid, &cell_start, particles, range, &old, &perm)
+                let springs = (!granular).then_some(&old);
+                build_rows(setup, &grid, &cell_start, particles, range, springs, &perm)
             })
             .collect();
         let m: usize = parts.iter().map(|part| part.1.len()).sum();
@@ -288,7 +298,9 @@ impl ContactList {
         self.row.reserve_exact(n + 1);
         self.row.push(0);
         self.nbr.reserve_exact(m);
-        self.shear.reserve_exact(m);
+        if !granular {
+            self.shear.reserve_exact(m);
+        }
         for (lens, nbr, shear) in parts {
             for l in lens {
                 let last = *self.row.last().unwrap();
@@ -373,7 +385,7 @@ impl ContactList {
     /// its index or rank after the rebuild, and ids need not be 0..N.
     fn history_by_id(&self, particles: &Particles) -> ById<Tangent> {
         let n = particles.len();
-        let kept = self.row.len() == n + 1;
+        let kept = self.row.len() == n + 1 && self.shear.len() == self.nbr.len();
         ById::collect(n, |put| {
             if !kept {
                 return;
@@ -550,12 +562,17 @@ fn build_rows(
     cell_start: &[u32],
     p: &Particles,
     range: std::ops::Range<usize>,
-    old: &ById<Tangent>,
+    springs: Option<&ById<Tangent>>,
     perm: &[u32],
 ) -> (Vec<u32>, Vec<u32>, Vec<Tangent>) {
     let mut lens = Vec::with_capacity(range.len());
     let mut nbr = Vec::with_capacity(range.len() * 4);
-    let mut shear = Vec::with_capacity(range.len() * 4);
+    // Under the granular law the list keeps no linear springs: 24 bytes an entry in 3D.
+    let mut shear = Vec::with_capacity(if springs.is_some() {
+        range.len() * 4
+    } else {
+        0
+    });
     // Each row scans the whole stencil and keeps the partners of higher id, so a pair
     // is listed by its lower id wherever the two are stored; consecutive rows share a
     // cell, so the stencil is found once per cell.
@@ -579,14 +596,18 @@ fn build_rows(
                 let cut = p.radius[i] + p.radius[j] + setup.skin;
                 let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
                 if d.length_squared() < cut * cut {
-                    let xi = old.get(perm[i], p.id[j]).copied().unwrap_or_default();
+                    let xi = springs
+                        .and_then(|old| old.get(perm[i], p.id[j]).copied())
+                        .unwrap_or_default();
                     row.push((p.id[j], j as u32, xi));
                 }
             }
         }
         row.sort_unstable_by_key(|e| e.0);
         nbr.extend(row.iter().map(|e| e.1));
-        shear.extend(row.iter().map(|e| e.2));
+        if springs.is_some() {
+            shear.extend(row.iter().map(|e| e.2));
+        }
         lens.push(row.len() as u32);
     }
     (lens, nbr, shear)

@@ -90,7 +90,7 @@ pub fn each_pair_force(setup: &Setup, s: &State, mut f: impl FnMut(PairForce)) {
                 spin,
                 w_rel: p.omega[i] - p.omega[j],
             };
-            let (force, push) = force_now(setup, (mi, mj), &c, list.shear[e], list.granular(e));
+            let (force, push) = force_now(setup, (mi, mj), &c, list.spring(e), list.granular(e));
             f(PairForce {
                 i,
                 j,

@@ -277,12 +277,12 @@ fn carried_of(setup: &Setup, list: &ContactList, p: &Particles, keep: &[bool]) -
                 .map_or_else(|| vec![[0.0; crate::granular::WIDTH]; nw], <[_]>::to_vec);
         }
     }
-    if list.owner.len() != list.nbr.len() || list.shear.len() != list.nbr.len() {
+    if list.owner.len() != list.nbr.len() {
         return rows;
     }
     let kept = list.history.kept(list.nbr.len());
     for e in 0..list.nbr.len() {
-        let (i, j, xi) = (list.owner[e] as usize, list.nbr[e] as usize, list.shear[e]);
+        let (i, j, xi) = (list.owner[e] as usize, list.nbr[e] as usize, list.spring(e));
         if xi != Tangent::default() {
             if keep[i] {
                 rows[i].rows.push((p.id[j], xi));
