@@ -60,7 +60,9 @@ fn a_rank_count_the_scenario_cannot_take_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let column = std::fs::read_to_string(example("dem/ranks_column.toml")).unwrap();
     let grid = column.replace("[run]", "[parallel]\nranks = [3, 1]\n\n[run]");
-    let cases: [(&str, &str, &str, &[&str]); 3] = [
+    let balance = |v: &str| column.replace("[run]", &format!("[parallel]\nbalance = {v}\n\n[run]"));
+    let (low, word) = (balance("1.0"), balance("\"sometimes\""));
+    let cases: [(&str, &str, &str, &[&str]); 5] = [
         ("zero.toml", &column, "0", &["--ranks = 0", "at least 1"]),
         (
             "grid.toml",
@@ -73,6 +75,18 @@ fn a_rank_count_the_scenario_cannot_take_is_refused() {
             &column,
             "29",
             &["under the contact range", "at most"],
+        ),
+        (
+            "low.toml",
+            &low,
+            "2",
+            &["parallel.balance = 1.0", "a number above 1", "\"off\""],
+        ),
+        (
+            "word.toml",
+            &word,
+            "1",
+            &["parallel.balance = \"sometimes\"", "\"off\""],
         ),
     ];
     for (name, text, n, want) in cases {

@@ -97,6 +97,13 @@ fn a_2d_dem_run_on_2_and_4_ranks_is_the_serial_run() {
             assert_eq!(d.status, serial.status);
         }
         let leader = done[0].as_ref().unwrap();
+        // Balanced by default (`[parallel] balance` = 1.2): the cuts follow the falling
+        // column.
+        let counts = &leader.summary.counts;
+        let (imbalance, moves) = (&counts["rank_imbalance"], &counts["rebalances"]);
+        eprintln!("{n} ranks: max/mean {imbalance} at the end, {moves} rebalances");
+        assert!(imbalance.as_f64().unwrap() <= 1.2, "{n} ranks: {imbalance}");
+        assert!(moves.as_u64().unwrap() > 0, "{n} ranks: {moves}");
         assert_eq!(leader.summary.particles, serial.summary.particles);
         assert_eq!(leader.summary.frames, serial.summary.frames);
         assert_eq!(leader.summary.figures, serial.summary.figures, "{n} ranks");

@@ -1,18 +1,30 @@
 //! The Cartesian grid of ranks over the domain: which rank owns a position, which ranks
 //! are a rank's neighbours, and how far a position is from a rank's region (periodic
 //! axes wrap). Written over [`DIM`], so the same source serves 2D and 3D.
+//!
+//! Each axis is cut into slabs at a sorted list of cut positions, each slab of its own
+//! width (equal at the start; load balancing moves them, `balance.rs`). A rank's box is
+//! the product of one slab per axis, so the grid's topology, and with it every rank's
+//! neighbours, never changes when cuts move. The rule that keeps ghosts one rank away:
+//! *every slab of an axis cut into several is at least the ghost layer wide* (2 r_max +
+//! skin), so a particle within the layer of a box lies in that box's slab or the next
+//! one along each axis, that is in a neighbouring box.
 
 use crate::domain::Domain;
 use crate::math::{Vector, DIM};
 
-/// Ranks laid out as `dims[0] × dims[1] (× dims[2])` equal boxes over the domain, the
-/// first axis's coordinate changing fastest in the rank number.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Ranks laid out as `dims[0] × dims[1] (× dims[2])` boxes over the domain, the first
+/// axis's coordinate changing fastest in the rank number.
+#[derive(Clone, Debug, PartialEq)]
 pub struct RankGrid {
     /// Ranks along each axis.
     pub dims: [usize; DIM],
     domain: Domain,
-    width: Vector,
+    /// The ghost layer's width (m): no slab of a cut axis is narrower.
+    halo: f64,
+    /// Per axis, the slabs' bounds: `dims[a] + 1` ascending positions from the domain's
+    /// lower face to its upper one.
+    cuts: [Vec<f64>; DIM],
 }
 
 /// Why a rank grid does not fit a run.
@@ -43,6 +55,13 @@ pub enum GridError {
         /// The most ranks that axis takes.
         most: usize,
     },
+    /// Cuts that do not run from the domain's lower face to its upper one, one more
+    /// than the ranks along the axis.
+    #[error("cuts along axis {axis} do not bound its slabs from the domain's lower face to its upper one")]
+    Cuts {
+        /// The axis.
+        axis: usize,
+    },
     /// Something the decomposition does not carry yet.
     #[error("{0} is not supported on several ranks yet (docs/parallel.md); allowed: 1 rank")]
     Unsupported(&'static str),
@@ -65,24 +84,90 @@ impl RankGrid {
             });
         }
         let len = domain.length();
-        let mut width = Vector::ZERO;
-        for a in 0..DIM {
-            width[a] = len[a] / dims[a] as f64;
-            if dims[a] > 1 && width[a] < halo {
+        let cuts = std::array::from_fn(|a| {
+            let width = len[a] / dims[a] as f64;
+            (0..=dims[a])
+                .map(|k| match k {
+                    k if k == dims[a] => domain.hi[a],
+                    k => domain.lo[a] + k as f64 * width,
+                })
+                .collect()
+        });
+        RankGrid {
+            dims,
+            domain,
+            halo,
+            cuts,
+        }
+        .checked()
+    }
+
+    /// This grid with the slabs' bounds `cuts` (per axis `dims[a] + 1` ascending
+    /// positions from the domain's lower face to its upper one), refused when a slab of
+    /// a cut axis is narrower than the ghost layer.
+    pub fn with_cuts(&self, cuts: [Vec<f64>; DIM]) -> Result<Self, GridError> {
+        for (a, c) in cuts.iter().enumerate() {
+            let ends = (c.first(), c.last());
+            if c.len() != self.dims[a] + 1
+                || ends != (Some(&self.domain.lo[a]), Some(&self.domain.hi[a]))
+            {
+                return Err(GridError::Cuts { axis: a });
+            }
+        }
+        RankGrid {
+            cuts,
+            ..self.clone()
+        }
+        .checked()
+    }
+
+    /// The grid, or why a slab is too narrow.
+    fn checked(self) -> Result<Self, GridError> {
+        let len = self.domain.length();
+        for a in (0..DIM).filter(|&a| self.dims[a] > 1) {
+            let c = &self.cuts[a];
+            let width = (0..self.dims[a])
+                .map(|k| c[k + 1] - c[k])
+                .fold(f64::INFINITY, f64::min);
+            if width.is_nan() || width < self.halo {
                 return Err(GridError::Narrow {
-                    dims: dims.to_vec(),
+                    dims: self.dims.to_vec(),
                     axis: a,
-                    width: width[a],
-                    halo,
-                    most: ((len[a] / halo).floor() as usize).max(1),
+                    width,
+                    halo: self.halo,
+                    most: ((len[a] / self.halo).floor() as usize).max(1),
                 });
             }
         }
-        Ok(RankGrid {
-            dims,
-            domain,
-            width,
-        })
+        Ok(self)
+    }
+
+    /// The domain the grid covers.
+    pub fn domain(&self) -> &Domain {
+        &self.domain
+    }
+
+    /// The ghost layer's width (m), the narrowest a slab of a cut axis may be.
+    pub fn halo(&self) -> f64 {
+        self.halo
+    }
+
+    /// The bounds of the slabs along `axis`: `dims[axis] + 1` ascending positions.
+    pub fn cuts(&self, axis: usize) -> &[f64] {
+        &self.cuts[axis]
+    }
+
+    /// The lower and upper corners of `rank`'s box (the boxes at non-periodic faces
+    /// also own what lies beyond them).
+    pub fn bounds(&self, rank: usize) -> (Vector, Vector) {
+        let c = self.coords(rank);
+        let mut lo = Vector::ZERO;
+        let mut hi = Vector::ZERO;
+        for a in 0..DIM {
+            lo[a] = self.cuts[a][c[a]];
+            hi[a] = self.cuts[a][c[a] + 1];
+        }
+        (lo, hi)
     }
 
     /// The grid for `ranks` ranks whose cuts are shortest in total (ties: more ranks
@@ -128,9 +213,10 @@ impl RankGrid {
     /// The rank that owns a particle at `p`: beyond a non-periodic face of the domain,
     /// the rank at that face.
     pub fn owner(&self, p: Vector) -> usize {
+        // The slab whose lower bound is the last inner cut at or below p (0 below the first).
         let c = std::array::from_fn(|a| {
-            let x = ((p[a] - self.domain.lo[a]) / self.width[a]).floor();
-            (x.max(0.0) as usize).min(self.dims[a] - 1)
+            let inner = &self.cuts[a][1..self.dims[a]];
+            inner.partition_point(|&cut| cut <= p[a])
         });
         self.rank(c)
     }
@@ -172,8 +258,7 @@ impl RankGrid {
         let len = self.domain.length();
         let mut d2 = 0.0;
         for a in 0..DIM {
-            let lo = self.domain.lo[a] + c[a] as f64 * self.width[a];
-            let hi = lo + self.width[a];
+            let (lo, hi) = (self.cuts[a][c[a]], self.cuts[a][c[a] + 1]);
             let gap = |x: f64| {
                 let below = c[a] > 0 || self.domain.periodic[a];
                 let above = c[a] + 1 < self.dims[a] || self.domain.periodic[a];
@@ -243,6 +328,32 @@ mod tests {
         assert!((g.distance(DVec2::new(1.9, 0.2), 0) - 0.1).abs() < 1e-12);
         assert_eq!(g.distance(DVec2::new(0.3, -5.0), 0), 0.0);
         assert!((g.distance(DVec2::new(0.3, 0.2), 2) - 0.3).abs() < 1e-12);
+    }
+
+    #[test]
+    fn moved_cuts_own_measure_and_refuse_slabs_under_the_ghost_layer() {
+        let g = RankGrid::new(unit([true, false]), [4, 1], 4, 0.1).unwrap();
+        let g = g
+            .with_cuts([vec![0.0, 0.1, 0.3, 1.9, 2.0], vec![0.0, 1.0]])
+            .unwrap();
+        assert_eq!(g.owner(DVec2::new(0.05, 0.5)), 0);
+        assert_eq!(g.owner(DVec2::new(0.1, 0.5)), 1);
+        assert_eq!(g.owner(DVec2::new(1.0, 0.5)), 2);
+        assert_eq!(g.owner(DVec2::new(5.0, 0.5)), 3);
+        assert_eq!(g.bounds(2), (DVec2::new(0.3, 0.0), DVec2::new(1.9, 1.0)));
+        // The neighbours are the grid's, wherever the cuts are.
+        assert_eq!(g.neighbours(0), vec![1, 3]);
+        // Through the periodic wrap, 0.15 from rank 1's box [0.1, 0.3].
+        assert!((g.distance(DVec2::new(1.95, 0.5), 1) - 0.15).abs() < 1e-12);
+        let narrow = g
+            .with_cuts([vec![0.0, 0.1, 0.15, 1.9, 2.0], vec![0.0, 1.0]])
+            .unwrap_err();
+        assert!(
+            matches!(narrow, GridError::Narrow { axis: 0, .. }),
+            "{narrow}"
+        );
+        let short = g.with_cuts([vec![0.0, 1.0, 2.0], vec![0.0, 1.0]]);
+        assert!(matches!(short, Err(GridError::Cuts { axis: 0 })));
     }
 
     #[test]

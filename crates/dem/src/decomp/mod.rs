@@ -16,8 +16,13 @@
 //!   and wall contacts are not computed (its walls are masked off, so wall loads count
 //!   owned particles only).
 //!
+//! With a balance threshold ([`Decomposed::with_balance`]), the cut planes between
+//! the boxes move at the start and at a rebuild when the ranks' particle counts are too
+//! uneven ([`balance`]); the particles then go to their new owners, wherever they are.
+//!
 //! A rank grid of one rank exchanges nothing and is the serial run bit for bit.
 
+pub mod balance;
 mod gather;
 pub mod grid;
 pub mod local;
@@ -27,7 +32,7 @@ pub use grid::{GridError, RankGrid};
 
 use crate::comm::{Exchange, Post, Reduce};
 use crate::history::{GranularHistory, Histories};
-use crate::math::{self, Tangent, DIM};
+use crate::math::{self, Tangent, Vector, DIM};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
@@ -52,6 +57,13 @@ pub struct Decomposed<C> {
     recv_ids: Vec<Vec<u32>>,
     send_at: Vec<Vec<u32>>,
     recv_at: Vec<Vec<u32>>,
+    /// The most particles on a rank over the mean past which the cuts move (`None`:
+    /// never).
+    balance: Option<f64>,
+    /// That ratio at the start or the last rebuild, after any move of the cuts.
+    imbalance: f64,
+    /// How many times the cuts moved.
+    rebalances: u64,
 }
 
 impl<C: Reduce + Post> Decomposed<C> {
@@ -86,7 +98,29 @@ impl<C: Reduce + Post> Decomposed<C> {
             recv_ids: none.clone(),
             send_at: none.clone(),
             recv_at: none,
+            balance: None,
+            imbalance: 1.0,
+            rebalances: 0,
         })
+    }
+
+    /// This rank with load balancing: at the start and at every rebuild, when the most
+    /// particles on a rank over the mean passes `threshold`, the cuts move
+    /// ([`balance`]); `None` keeps the equal boxes.
+    pub fn with_balance(mut self, threshold: Option<f64>) -> Self {
+        self.balance = threshold;
+        self
+    }
+
+    /// The most particles owned by a rank over the mean, at the start or the last
+    /// rebuild (after any move of the cuts then); 1 on one rank.
+    pub fn imbalance(&self) -> f64 {
+        self.imbalance
+    }
+
+    /// How many times the cuts have moved.
+    pub fn rebalances(&self) -> u64 {
+        self.rebalances
     }
 
     /// The transport, back.
@@ -114,6 +148,7 @@ impl<C: Reduce + Post> Decomposed<C> {
             return whole.clone();
         }
         let p = &whole.particles;
+        self.rebalance(&p.pos, true);
         let me = self.comm.rank();
         let owner: Vec<usize> = p.pos.iter().map(|&x| self.grid.owner(x)).collect();
         let mine: Vec<bool> = owner.iter().map(|&o| o == me).collect();
@@ -170,30 +205,24 @@ impl<C: Reduce + Post> Decomposed<C> {
         crate::diagnostics::measure_where(setup, s, self, |i| owned.get(i).copied().unwrap_or(true))
     }
 
-    /// Sends each neighbour its part of `out` (aligned with `neighbours`) and returns
-    /// what each sent here, as words.
-    fn swap(&self, out: Vec<Vec<u64>>) -> Vec<Vec<u64>> {
-        let outgoing = self
-            .neighbours
+    /// Sends each rank of `to` its part of `out` (aligned with `to`) and returns what
+    /// each sent here, as words.
+    fn swap(&self, to: &[usize], out: Vec<Vec<u64>>) -> Vec<Vec<u64>> {
+        let outgoing = to
             .iter()
             .zip(out)
             .map(|(&q, w)| (q, words::bytes_of(&w)))
             .collect();
-        let got = self.comm.exchange(outgoing, &self.neighbours);
+        let got = self.comm.exchange(outgoing, to);
         got.iter().map(|b| words::words_of(b)).collect()
     }
+}
 
-    fn slot(&self, q: usize) -> usize {
-        self.neighbours
-            .iter()
-            .position(|&n| n == q)
-            .unwrap_or_else(|| {
-                panic!(
-                    "a particle moved past the neighbours of rank {} in one list's life",
-                    self.comm.rank()
-                )
-            })
-    }
+/// Where rank `q` is in `to`, the ranks rank `me` sends particles to.
+fn slot(to: &[usize], q: usize, me: usize) -> usize {
+    to.iter().position(|&n| n == q).unwrap_or_else(|| {
+        panic!("a particle moved past the neighbours of rank {me} in one list's life")
+    })
 }
 
 /// Installs `local` (owned particles first, then ghosts) into `s` with a list that
@@ -344,23 +373,33 @@ impl<C: Reduce + Post> Exchange for Decomposed<C> {
         let nw = setup.walls.len();
         let p = &s.particles;
         let mut rows = carried_of(setup, &s.contacts, p, &self.owned);
+        let own: Vec<Vector> = (0..p.len())
+            .filter(|&i| self.owned[i])
+            .map(|i| p.pos[i])
+            .collect();
+        // Moved cuts may hand a particle to any rank; else it stays within reach.
+        let to: Vec<usize> = if self.rebalance(&own, false) {
+            (0..self.comm.ranks()).filter(|&q| q != me).collect()
+        } else {
+            self.neighbours.clone()
+        };
         // Round 1: particles that left the box, with their history.
-        let mut out = vec![vec![0u64]; self.neighbours.len()];
+        let mut out = vec![vec![0u64]; to.len()];
         let mut local = Particles::default();
         let mut hist = Vec::new();
         for i in (0..p.len()).filter(|&i| self.owned[i]) {
-            let to = self.grid.owner(p.pos[i]);
-            if to == me {
+            let owner = self.grid.owner(p.pos[i]);
+            if owner == me {
                 words::copy_particle(p, i, &mut local);
                 hist.push(std::mem::take(&mut rows[i]));
                 continue;
             }
-            let w = &mut out[self.slot(to)];
+            let w = &mut out[slot(&to, owner, me)];
             w[0] += 1;
             words::put_particle(w, p, i);
             words::put_history(w, &rows[i]);
         }
-        for got in self.swap(out) {
+        for got in self.swap(&to, out) {
             let mut r = Reader::new(&got);
             for _ in 0..r.word() {
                 words::get_particle(&mut r, &mut local);
@@ -378,7 +417,7 @@ impl<C: Reduce + Post> Exchange for Decomposed<C> {
                 words::put_particle(&mut out[k], &local, i);
             }
         }
-        for (k, got) in self.swap(out).into_iter().enumerate() {
+        for (k, got) in self.swap(&self.neighbours, out).into_iter().enumerate() {
             let mut r = Reader::new(&got);
             let from = local.len();
             while !r.done() {
@@ -428,7 +467,7 @@ impl<C: Reduce + Post> Exchange for Decomposed<C> {
                 w
             })
             .collect();
-        for (k, got) in self.swap(out).into_iter().enumerate() {
+        for (k, got) in self.swap(&self.neighbours, out).into_iter().enumerate() {
             let mut r = Reader::new(&got);
             for &i in &self.recv_at[k] {
                 words::get_motion(&mut r, p, i as usize);

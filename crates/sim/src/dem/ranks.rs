@@ -27,6 +27,32 @@ pub struct ParallelSpec {
     /// started on (default: the grid with the shortest cuts for that number).
     #[serde(default)]
     pub ranks: Option<[usize; 2]>,
+    /// Load balancing: the most particles on a rank over the mean past which the cut
+    /// planes between the ranks' boxes move (a number above 1, default
+    /// [`DEFAULT_BALANCE`]), or `"off"` for equal boxes throughout. Any value is read
+    /// here and checked by [`balance`], which names what is allowed.
+    #[serde(default)]
+    pub balance: Option<toml::Value>,
+}
+
+/// The imbalance (most particles on a rank over the mean) past which the cuts move when
+/// `[parallel] balance` is not given.
+pub const DEFAULT_BALANCE: f64 = 1.2;
+
+/// The balance threshold `[parallel] balance` asks for (`None`: off), or why it cannot
+/// be, as one line naming the key, the value and what is allowed.
+pub fn balance(s: &Scenario) -> Result<Option<f64>, String> {
+    let Some(v) = s.parallel.as_ref().and_then(|p| p.balance.as_ref()) else {
+        return Ok(Some(DEFAULT_BALANCE));
+    };
+    let number = v.as_float().or(v.as_integer().map(|i| i as f64));
+    match (number, v.as_str()) {
+        (Some(t), _) if t.is_finite() && t > 1.0 => Ok(Some(t)),
+        (_, Some("off")) => Ok(None),
+        _ => Err(format!(
+            "parallel.balance = {v}: allowed: a number above 1 (the most particles on a rank over the mean past which the cuts between the ranks move; default {DEFAULT_BALANCE}) or \"off\""
+        )),
+    }
 }
 
 /// The rank grid `[parallel] ranks` asks for on `ranks` ranks (`None`: chosen), or why
@@ -124,19 +150,24 @@ pub struct Part {
 
 impl Part {
     /// This rank's part of `whole` (the start every rank assembled) on the grid `dims`
-    /// (chosen when `None`); one line naming what does not fit when it cannot be.
+    /// (chosen when `None`), its cuts moved when the ranks' particle counts are more
+    /// uneven than `balance` ([`balance`]); one line naming what does not fit when it
+    /// cannot be.
     pub fn new(
         link: Link,
         setup: &Setup,
         whole: &State,
         dims: Option<[usize; 2]>,
+        balance: Option<f64>,
     ) -> Result<Part, String> {
         let r_max = whole.particles.radius.iter().fold(0.0f64, |a, &r| a.max(r));
         let n = link.ranks();
-        let mut dec = Decomposed::new(link, setup, dims, r_max).map_err(|e| match dims {
-            Some(_) if !matches!(e, GridError::Unsupported(_)) => format!("parallel.{e}"),
-            _ => format!("mpirun -np {n}: {e}"),
-        })?;
+        let mut dec = Decomposed::new(link, setup, dims, r_max)
+            .map_err(|e| match dims {
+                Some(_) if !matches!(e, GridError::Unsupported(_)) => format!("parallel.{e}"),
+                _ => format!("mpirun -np {n}: {e}"),
+            })?
+            .with_balance(balance);
         let local = dec.start(setup, whole);
         let hash = dec.state_hash(&local);
         Ok(Part { local, dec, hash })

@@ -114,6 +114,7 @@ pub fn open_on(
     let out = opts.out.clone();
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
     let dims = ranks::grid(s, link.as_ref().map_or(1, Reduce::ranks)).map_err(refused)?;
+    let balance = ranks::balance(s).map_err(refused)?;
     if link.is_some() {
         if let Some(why) = ranks::unsupported(s) {
             return Err(refused(why));
@@ -140,7 +141,8 @@ pub fn open_on(
         }
     };
     if let Some(link) = link {
-        let part = ranks::Part::new(link, &sim.setup, &sim.state, dims).map_err(refused)?;
+        let part =
+            ranks::Part::new(link, &sim.setup, &sim.state, dims, balance).map_err(refused)?;
         sim.ranks = Some(Box::new(part));
     }
     let leader = sim.ranks.as_ref().is_none_or(|p| p.rank() == 0);
@@ -306,6 +308,11 @@ impl Live for DemRun {
         )?;
         let mut counts = serde_json::Map::new();
         counts.insert("neighbour_builds".into(), sim.state.contacts.builds.into());
+        if let Some(part) = &sim.ranks {
+            // Of this segment of the run (a resumed run counts afresh).
+            counts.insert("rank_imbalance".into(), part.dec.imbalance().into());
+            counts.insert("rebalances".into(), part.dec.rebalances().into());
+        }
         let costs = Costs {
             dt: sim.dt,
             dt_critical: self.dt_critical,

@@ -120,6 +120,7 @@ pub fn spread(src: &Source, n: usize) -> Result<Spread, String> {
     };
     let refused = |e: String| format!("{}: {e}", src.origin);
     let dims = ranks::grid(&s, n).map_err(refused)?;
+    let balance = ranks::balance(&s).map_err(refused)?;
     if n > 1 {
         if let Some(why) = ranks::unsupported(&s) {
             return Err(refused(why));
@@ -139,7 +140,7 @@ pub fn spread(src: &Source, n: usize) -> Result<Spread, String> {
             .build()
             .map_err(|e| e.to_string())?;
         pool.install(|| {
-            let part = Part::new(Link(Box::new(l)), setup, &whole, dims)?;
+            let part = Part::new(Link(Box::new(l)), setup, &whole, dims, balance)?;
             let held = part.local.particles.len();
             let owned = part.dec.owned(&part.local.particles);
             let grid = part.dec.grid();
