@@ -6,6 +6,8 @@ use super::scenario::{CheckSpec, Scenario};
 use crate::ranks::not_on_ranks;
 use grains_dem3d as engine;
 
+// Loaded once per engine on purpose: the same source over each engine's types.
+#[allow(clippy::duplicate_mod)]
 #[path = "../ranks/part.rs"]
 mod part;
 
