@@ -1,5 +1,5 @@
 //! The commands that run on several ranks (`mpirun -np N grains ...`, in a build with
-//! the `mpi` feature): `run` of a 2D DEM scenario and `bench dem`. Rank 0 prints and
+//! the `mpi` feature): `run` and `resume` of a DEM scenario (2D or 3D) and `bench dem`. Rank 0 prints and
 //! writes; every rank exits with the same code. Other commands are refused on every
 //! rank before anything is read.
 
@@ -15,7 +15,7 @@ use std::process::ExitCode;
 pub fn refuse(launch: Launch, command: &str) -> Option<String> {
     (launch.ranks > 1 && !matches!(command, "run" | "resume" | "bench dem")).then(|| {
         format!(
-            "`grains {command}` does not run on several ranks yet (ranks = {}; docs/parallel.md); allowed under mpirun: `grains run` and `grains resume` (2D DEM) and `grains bench dem`, or 1 rank",
+            "`grains {command}` does not run on several ranks yet (ranks = {}; docs/parallel.md); allowed under mpirun: `grains run` and `grains resume` (DEM, 2D and 3D) and `grains bench dem`, or 1 rank",
             launch.ranks
         )
     })

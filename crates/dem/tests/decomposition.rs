@@ -10,6 +10,24 @@ use grains_dem::{step, step_on, Domain, NoHooks, Particles, Setup, State};
 #[path = "common/peer.rs"]
 mod peer;
 
+#[path = "common/grids.rs"]
+mod grids;
+
+use grids::{on_grids, pool};
+
+/// The grids of the equality tests: 1 × 1, 2 × 1, 1 × 2 and 2 × 2 ranks, at 1 and 2
+/// threads each.
+const GRIDS: [([usize; 2], usize); 8] = [
+    ([1, 1], 1),
+    ([2, 1], 1),
+    ([1, 2], 1),
+    ([2, 2], 1),
+    ([1, 1], 2),
+    ([2, 1], 2),
+    ([1, 2], 2),
+    ([2, 2], 2),
+];
+
 fn setup(domain: Domain, floor: bool, gravity: DVec2, skin: f64) -> Setup {
     let walls = floor.then(peer::floor).into_iter().collect();
     let (material, model) = (peer::material(), peer::hooke(4000.0, 87.0));
@@ -328,7 +346,7 @@ fn a_dense_bed_has_the_serial_hash_on_1_2_and_4_ranks_and_threads() {
     // The floor's load too: its terms are added exactly (docs/parallel.md, rule 2).
     let floor = hashes.last().unwrap().1[0].contacts;
     assert!(floor > 10, "{floor} disks on the floor");
-    on_grids(&set, &whole, (dt, steps, every), &hashes, |d, s| {
+    on_grids(&set, &whole, (dt, steps, every), &GRIDS, &hashes, |d, s| {
         (d.state_hash(s), s.wall_loads.clone())
     });
 }
@@ -386,50 +404,9 @@ fn a_granular_bed_carries_its_histories_across_ranks_bit_for_bit() {
         "{rolling} histories with sliding and rolling springs"
     );
     assert!(walls > 5, "{walls} wall histories");
-    on_grids(&set, &whole, (dt, steps, every), &hashes, |d, s| {
+    on_grids(&set, &whole, (dt, steps, every), &GRIDS, &hashes, |d, s| {
         d.state_hash(s)
     });
-}
-
-/// A pool of `t` threads.
-fn pool(t: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(t)
-        .build()
-        .unwrap()
-}
-
-/// Runs `whole` for `steps` steps of `dt` on 1 × 1, 2 × 1, 1 × 2 and 2 × 2 in-process
-/// ranks at 1 and 2 threads each, and checks what `record` takes every `every` steps
-/// against the serial run's, `want`.
-fn on_grids<T: PartialEq + std::fmt::Debug + Send>(
-    set: &Setup,
-    whole: &State,
-    (dt, steps, every): (f64, usize, usize),
-    want: &[T],
-    record: impl Fn(&Decomposed<Local>, &State) -> T + Sync,
-) {
-    for threads in [1, 2] {
-        for (ranks, dims) in [(1, [1, 1]), (2, [2, 1]), (2, [1, 2]), (4, [2, 2])] {
-            let out = run_ranks(ranks, |l| {
-                pool(threads).install(|| {
-                    let mut d = Decomposed::new(l, set, Some(dims), 0.5).unwrap();
-                    let mut s = d.start(set, whole);
-                    let mut hs = Vec::new();
-                    for k in 0..steps {
-                        step_on(set, &mut s, dt, &mut NoHooks, &mut d);
-                        if k % every == every - 1 {
-                            hs.push(record(&d, &s));
-                        }
-                    }
-                    hs
-                })
-            });
-            for (r, hs) in out.iter().enumerate() {
-                assert_eq!(hs, want, "{dims:?}, {threads} threads, rank {r}");
-            }
-        }
-    }
 }
 
 /// Sets the disks on a triangular lattice `nx` wide with a spacing of 0.95 (less than
@@ -463,7 +440,7 @@ fn the_energy_ledger_is_the_serial_one_on_any_grid() {
     }
     let last = want.last().unwrap().1;
     assert!(last.damping > 0.0 && last.friction > 0.0 && last.springs_released > 0.0);
-    on_grids(&set, &whole, (dt, steps, every), &want, |d, s| {
+    on_grids(&set, &whole, (dt, steps, every), &GRIDS, &want, |d, s| {
         (d.state_hash(s), s.ledger.unwrap())
     });
 }

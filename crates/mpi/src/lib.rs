@@ -6,8 +6,8 @@
 //!
 //! What is here: the reductions, in rank order, the point-to-point messages the
 //! engine's domain decomposition ([`grains_dem::decomp`]) sends, and the launch checks.
-//! `grains run` (2D DEM) and `grains bench dem` run over it on several ranks; which
-//! commands and scenarios do not yet is in docs/parallel.md.
+//! `grains run` and `grains resume` (DEM, 2D and 3D) and `grains bench dem` run over it
+//! on several ranks; which commands and scenarios do not yet is in docs/parallel.md.
 
 #[cfg(feature = "mpi")]
 mod world;

@@ -35,6 +35,7 @@ pub mod output;
 pub mod pack;
 pub mod pack3d;
 pub mod packings;
+pub mod ranks;
 pub mod run;
 pub mod scenario;
 pub mod session;

@@ -91,28 +91,29 @@ pub fn run(src: &Source, mut opts: RunOptions) -> Result<Finished, RunError> {
 }
 
 /// Runs the scenario `src` as one rank of several (`mpirun -np N grains run`), `link`
-/// carrying the messages: rank 0 writes every output, the others write nothing. 2D
-/// DEM scenarios only (docs/parallel.md); anything else is refused with one line, on
-/// every rank alike.
+/// carrying the messages: rank 0 writes every output, the others write only their
+/// pieces of the frames. DEM scenarios, 2D and 3D (docs/parallel.md); anything else is
+/// refused with one line, on every rank alike.
 pub fn run_on(
     src: &Source,
     mut opts: RunOptions,
     link: dem::ranks::Link,
 ) -> Result<Finished, RunError> {
+    let o = &mut opts;
     let mut live = match scenario::parse(src).map_err(RunError::Input)? {
-        Scenario::Dem(s) => dem::run::open_on(&s, src, &mut opts, None, Some(link))?,
+        Scenario::Dem(s) => AnyRun::Dem(Box::new(dem::run::open_on(&s, src, o, None, Some(link))?)),
+        Scenario::Dem3(s) => {
+            AnyRun::Dem3(Box::new(dem3d::run::open_on(&s, src, o, None, Some(link))?))
+        }
         other => {
-            let what = match other {
-                Scenario::Dem3(_) => "dim = 3".to_string(),
-                _ => format!("engine = \"{}\"", other.engine()),
-            };
             return Err(RunError::Input(format!(
-                "{}: {what} is not supported on several ranks yet (docs/parallel.md); allowed: 2D DEM scenarios, or 1 rank",
-                src.origin
+                "{}: engine = \"{}\" is not supported on several ranks yet (docs/parallel.md); allowed: DEM scenarios (2D and 3D), or 1 rank",
+                src.origin,
+                other.engine()
             )));
         }
     };
-    run_live(&mut live, &mut opts, src)
+    live.run_to_end(&mut opts, src)
 }
 
 /// Continues the run in `dir` from its checkpoint.
@@ -194,7 +195,7 @@ pub fn open_resumed(dir: &Path, opts: &mut RunOptions) -> Result<(AnyRun, Source
 /// Continues the run in `dir` from its checkpoint as one rank of several (`mpirun -np
 /// N grains resume`), `link` carrying the messages: every rank reads the checkpoint
 /// (written by any number of ranks) and takes its box of it; rank 0 writes every
-/// output. 2D DEM runs only; anything else is refused with one line, on every rank.
+/// output. DEM runs (2D and 3D); anything else is refused with one line, on every rank.
 pub fn resume_on(
     dir: &Path,
     mut opts: RunOptions,
@@ -203,20 +204,29 @@ pub fn resume_on(
     use grains_dem::Reduce;
     // One rank clears what an earlier write left: the others must not race it.
     let (scn, src) = resumable(dir, &mut opts, link.rank() == 0)?;
-    let Scenario::Dem(s) = scn else {
-        return Err(RunError::Input(format!(
-            "{}: resume on several ranks is supported for 2D DEM runs, this one is {}; allowed: 1 rank",
-            dir.display(),
-            match scn {
-                Scenario::Dem3(_) => "dim = 3".to_string(),
-                other => format!("engine = \"{}\"", other.engine()),
-            }
-        )));
+    let o = &mut opts;
+    let (mut live, src) = match scn {
+        Scenario::Dem(s) => {
+            let saved = dem::run::load_checkpoint(&s, &src, dir)?;
+            let src = from_base(src, saved.base());
+            let live = dem::run::open_on(&s, &src, o, Some(saved), Some(link))?;
+            (AnyRun::Dem(Box::new(live)), src)
+        }
+        Scenario::Dem3(s) => {
+            let saved = dem3d::run::load_checkpoint(&s, &src, dir)?;
+            let src = from_base(src, saved.base());
+            let live = dem3d::run::open_on(&s, &src, o, Some(saved), Some(link))?;
+            (AnyRun::Dem3(Box::new(live)), src)
+        }
+        other => {
+            return Err(RunError::Input(format!(
+                "{}: resume on several ranks is supported for DEM runs (2D and 3D), this one is engine = \"{}\"; allowed: 1 rank",
+                dir.display(),
+                other.engine()
+            )));
+        }
     };
-    let saved = dem::run::load_checkpoint(&s, &src, dir)?;
-    let src = from_base(src, saved.base());
-    let mut live = dem::run::open_on(&s, &src, &mut opts, Some(saved), Some(link))?;
-    run_live(&mut live, &mut opts, &src)
+    live.run_to_end(&mut opts, &src)
 }
 
 /// The scenario of the run directory `dir`, parsed, unless the run there already

@@ -4,9 +4,7 @@
 //! serial run's bit for bit.
 
 use grains_core::vtk::{check_pvtp, find_array, read_appended_arrays, ReadArray};
-use grains_dem::decomp::local::run_ranks;
 use grains_dem::Reduce;
-use grains_sim::dem::ranks::Link;
 use grains_sim::driver::{Progress, AGREE_EVERY};
 use grains_sim::run::{self, RunOptions};
 use grains_sim::{Clock, Finished, Source};
@@ -14,69 +12,22 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
+#[path = "common/on_ranks.rs"]
+mod on_ranks;
+
+use on_ranks::{
+    as_pieces, columns_but, copy_dir, example_in, files, hashed, on_ranks, on_ranks_with,
+    refused_everywhere,
+};
+
 fn example(name: &str) -> Source {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples/dem")
-        .join(name);
-    Source::read(&path).unwrap()
-}
-
-/// Runs `src` on `n` in-process ranks (one thread each) into `out`.
-fn on_ranks(src: &Source, n: usize, out: &Path) -> Vec<Result<Finished, String>> {
-    on_ranks_with(n, |l| run::run_on(src, RunOptions::new(out), l))
-}
-
-/// `go` on `n` in-process ranks (one thread each), each with its link.
-fn on_ranks_with(
-    n: usize,
-    go: impl Fn(Link) -> Result<Finished, run::RunError> + Sync,
-) -> Vec<Result<Finished, String>> {
-    run_ranks(n, |l| {
-        // Each rank its own pool, as each MPI process has: a rank blocked on a message
-        // must not hold a worker another rank needs.
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .unwrap();
-        pool.install(|| go(Link(Box::new(l))).map_err(|e| e.to_string()))
-    })
-}
-
-/// Every file under `dir`, by its path from `dir`.
-fn files(dir: &Path) -> Vec<PathBuf> {
-    fn walk(top: &Path, dir: &Path, all: &mut Vec<PathBuf>) {
-        for e in std::fs::read_dir(dir).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                walk(top, &p, all);
-            } else {
-                all.push(p.strip_prefix(top).unwrap().to_path_buf());
-            }
-        }
-    }
-    let mut all = Vec::new();
-    walk(dir, dir, &mut all);
-    all.sort();
-    all
+    example_in("dem", name)
 }
 
 /// Every column of a history, the wall loads included (added exactly on any rank
 /// count: docs/parallel.md, rule 2).
 fn every_column(dir: &Path) -> Vec<Vec<String>> {
     columns_but(dir, |_| false)
-}
-
-/// The history's columns but those `skip` names, as written.
-fn columns_but(dir: &Path, skip: impl Fn(&str) -> bool) -> Vec<Vec<String>> {
-    let text = std::fs::read_to_string(dir.join("history.csv")).unwrap();
-    let head: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-    let keep: Vec<usize> = (0..head.len()).filter(|&k| !skip(head[k])).collect();
-    text.lines()
-        .map(|l| {
-            let v: Vec<&str> = l.split(',').collect();
-            keep.iter().map(|&k| v[k].to_string()).collect()
-        })
-        .collect()
 }
 
 #[test]
@@ -124,29 +75,6 @@ fn a_2d_dem_run_on_2_and_4_ranks_is_the_serial_run() {
             "{n} ranks"
         );
     }
-}
-
-/// The files of a serial run as a run on `n` ranks writes them: each particle frame
-/// `frames/particles_K.vtp` as the index `particles_K.pvtp` and one piece per rank.
-fn as_pieces(serial: Vec<PathBuf>, n: usize) -> Vec<PathBuf> {
-    let mut all = Vec::new();
-    for f in serial {
-        let name = f.file_name().unwrap().to_str().unwrap();
-        match name
-            .strip_prefix("particles_")
-            .and_then(|k| k.strip_suffix(".vtp"))
-        {
-            Some(k) => {
-                all.push(f.with_file_name(format!("particles_{k}.pvtp")));
-                for r in 0..n {
-                    all.push(f.with_file_name(format!("particles_{k}_r{r:03}.vtp")));
-                }
-            }
-            None => all.push(f),
-        }
-    }
-    all.sort();
-    all
 }
 
 /// `grains analyze RUN_DIR` of a run given a `[dispersal]` table afterwards (it reads
@@ -250,14 +178,7 @@ fn what_ranks_cannot_run_is_refused_on_every_rank() {
         ),
     ];
     for (k, (src, want)) in cases.iter().enumerate() {
-        let out = dir.path().join(format!("case{k}"));
-        for (r, got) in on_ranks(src, 2, &out).into_iter().enumerate() {
-            let e = got
-                .err()
-                .unwrap_or_else(|| panic!("case {k}, rank {r}: ran"));
-            assert!(e.contains(want) && !e.contains('\n'), "rank {r}: {e}");
-        }
-        assert!(!out.exists(), "case {k}: nothing written");
+        refused_everywhere(src, 2, &dir.path().join(format!("case{k}")), want);
     }
     // One rank is refused a grid of several, too.
     let mut two = column.clone();
@@ -269,18 +190,6 @@ fn what_ranks_cannot_run_is_refused_on_every_rank() {
         e.to_string().contains("makes 2 ranks, but the run has 1"),
         "{e}"
     );
-}
-
-/// Every rank's result, unwrapped; all with the state hash `want`.
-fn hashed(done: Vec<Result<Finished, String>>, want: &str, what: &str) -> Finished {
-    let mut all = done.into_iter().enumerate().map(|(r, d)| {
-        let d = d.unwrap_or_else(|e| panic!("{what}, rank {r}: {e}"));
-        assert_eq!(d.summary.state_hash, want, "{what}, rank {r}");
-        d
-    });
-    let leader = all.next().unwrap();
-    all.for_each(drop);
-    leader
 }
 
 /// What a checkpoint in `dir` holds of the state, apart from the build positions (taken
@@ -308,13 +217,6 @@ fn saved(dir: &Path, src: &Source) -> Vec<u64> {
     w.push(s.step);
     w.push(s.time.to_bits());
     w
-}
-
-fn copy_dir(from: &Path, to: &Path) {
-    for f in files(from) {
-        std::fs::create_dir_all(to.join(&f).parent().unwrap()).unwrap();
-        std::fs::copy(from.join(&f), to.join(&f)).unwrap();
-    }
 }
 
 /// The history without what a restart on another rank count may change: the neighbour

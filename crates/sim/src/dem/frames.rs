@@ -9,7 +9,7 @@ use crate::frames::Framed;
 use glam::DVec2;
 use grains_core::atomic::write_atomic_with;
 use grains_core::vtk::{DataArray, PolyData};
-use grains_dem::{diagnostics, Reduce, Setup, State};
+use grains_dem::{diagnostics, Setup, State};
 use std::io::{self, Write};
 use std::path::Path;
 
@@ -39,25 +39,20 @@ impl Framed for Dem {
 }
 
 impl Dem {
-    /// This rank's piece of frame `k`, `particles_<k>_r<rank>.vtp` (its own particles,
-    /// not its ghosts, with the serial frame's arrays), and on rank 0 the index
-    /// `particles_<k>.pvtp` over every rank's piece. Every rank writes a piece, an empty
-    /// one too, so the index names them without asking the others.
+    /// This rank's piece of frame `k` (its own particles, not its ghosts, with the
+    /// serial frame's arrays), and on rank 0 the index over every rank's piece
+    /// ([`crate::ranks::write_piece`]).
     fn write_pieces(
         &self,
         part: &Part,
         dir: &Path,
         k: usize,
     ) -> io::Result<Vec<(&'static str, String)>> {
-        let s = &part.local;
-        let own: Vec<usize> = (0..s.particles.len())
-            .filter(|&i| part.dec.owns(i))
-            .collect();
-        let poly = particles_polydata_of(&self.setup, s, &own);
-        poly.write(&dir.join(piece_name(k, part.rank())))?;
-        if part.rank() != 0 {
+        let poly = particles_polydata_of(&self.setup, &part.local, &part.own());
+        let at = (part.rank(), part.ranks());
+        let Some(name) = crate::ranks::write_piece(&poly, dir, k, at)? else {
             return Ok(Vec::new());
-        }
+        };
         if self.lammps_dump {
             // The dump is one file of every particle: rank 0 has gathered them for it.
             let dump = format!("particles_{k:05}.dump");
@@ -65,16 +60,8 @@ impl Dem {
                 lammps_dump(w, &self.setup, &self.state)
             })?;
         }
-        let pieces: Vec<String> = (0..part.dec.ranks()).map(|r| piece_name(k, r)).collect();
-        let name = format!("particles_{k:05}.pvtp");
-        poly.write_pvtp(&dir.join(&name), &pieces)?;
         Ok(vec![("particles", name)])
     }
-}
-
-/// Rank `rank`'s piece of frame `k`.
-pub fn piece_name(k: usize, rank: usize) -> String {
-    format!("particles_{k:05}_r{rank:03}.vtp")
 }
 
 /// The particles as VTK vertices with their fields: among them each particle's mass

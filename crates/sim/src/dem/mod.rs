@@ -154,35 +154,7 @@ impl Simulation for Dem {
         }
     }
 
-    fn state_hash(&self) -> u64 {
-        match &self.ranks {
-            Some(part) => part.hash(),
-            None => diagnostics::state_hash(&self.state),
-        }
-    }
-
-    fn gather(&mut self) {
-        if let Some(part) = self.ranks.as_mut() {
-            part.gather(&self.setup, &mut self.state);
-        }
-    }
-
-    fn frame_reads_whole(&self, kind: FrameKind) -> bool {
-        // Each rank writes its piece of a frame; the snapshot maps and a LAMMPS dump
-        // are drawn from every particle on rank 0.
-        self.ranks.is_none() || kind != FrameKind::Regular || self.lammps_dump
-    }
-
-    fn agree(&self, flag: bool) -> bool {
-        match &self.ranks {
-            Some(part) => part.dec.any(flag),
-            None => flag,
-        }
-    }
-
-    fn ranks(&self) -> usize {
-        self.ranks.as_ref().map_or(1, |p| p.dec.ranks())
-    }
+    ranks::spread_methods!();
 
     fn checkpoint(&self) -> Option<Vec<u8>> {
         // On several ranks, rank 0 writes the whole state it has just gathered (in id

@@ -13,11 +13,8 @@ use crate::dispersal::DispersalObserver;
 use crate::driver::{agreed, restore_observers, Every, Observer, Outcome, Report, Status, Stepper};
 use crate::frames::{FrameRecorder, Snapshots};
 use crate::history::HistoryRecorder;
-use crate::run::{
-    finish, fresh_out, recorders, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions,
-};
+use crate::run::{finish, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions};
 use crate::source::Source;
-use anyhow::Context;
 use grains_core::history::History;
 use grains_dem::{Reduce, State};
 use std::path::{Path, PathBuf};
@@ -113,8 +110,9 @@ pub fn open_on(
     let refused = |e: String| RunError::Input(format!("{}: {e}", src.origin));
     let out = opts.out.clone();
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
-    let dims = ranks::grid(s, link.as_ref().map_or(1, Reduce::ranks)).map_err(refused)?;
-    let balance = ranks::balance(s).map_err(refused)?;
+    let dims = ranks::grid(s.parallel.as_ref(), link.as_ref().map_or(1, Reduce::ranks))
+        .map_err(refused)?;
+    let balance = ranks::ParallelSpec::balance_of(s.parallel.as_ref()).map_err(refused)?;
     if link.is_some() {
         if let Some(why) = ranks::unsupported(s) {
             return Err(refused(why));
@@ -146,6 +144,7 @@ pub fn open_on(
         sim.ranks = Some(Box::new(part));
     }
     let leader = sim.ranks.as_ref().is_none_or(|p| p.rank() == 0);
+    let sim_spread = sim.ranks.is_some();
     let mut plan = s.output.plan_by_steps(&CAPABILITIES, steps);
     opts.progress.announce(&format!(
         "{}{} (dem) — {} particles, dt = {:.3e} s, {} steps, {} threads → {}",
@@ -174,44 +173,17 @@ pub fn open_on(
         let hold = s.run.stop_rest_time.unwrap_or(20.0 * every as f64 * sim.dt);
         RestDetector::new(&sim, ratio, hold)
     });
-    // Rank 0 starts the output directory; a failure there stops every rank. Both
-    // branches below sample a fresh start, together, so what could fail before that
-    // sample is tried first, by itself.
-    if sim.ranks.is_some() && resume.is_none() {
-        let ready = match leader {
-            true => fresh_out(&out, &src.text).and_then(|()| {
-                let path = out.join("history.csv");
-                std::fs::File::create(&path)
-                    .map(drop)
-                    .with_context(|| format!("cannot create {}", path.display()))
-            }),
-            false => Ok(()),
-        };
-        agreed(&sim, ready)?;
-    }
-    let started = if leader {
-        recorders(
-            &out,
-            &src.text,
-            &mut sim,
-            &plan,
-            resume.as_ref().map(|r| &r.progress.counters),
-        )
-        .map(|(history, frames, counters)| (history, Some(frames), counters))
-    } else {
-        // Every rank keeps the loop's counters: they say when all gather together.
-        let counters = match &resume {
-            Some(r) => r.progress.counters.clone(),
-            None => crate::driver::Counters::fresh(&plan),
-        };
-        HistoryRecorder::discarding(&mut sim, resume.is_none())
-            .map(|history| (history, None, counters))
-            .map_err(RunError::from)
+    let (history, frames, counters) = crate::ranks::recorders(
+        &mut sim,
+        (leader, sim_spread),
+        (&out, &src.text),
+        &plan,
+        resume.as_ref().map(|r| &r.progress.counters),
+    )?;
+    let (frames, pieces) = match leader {
+        true => (Some(frames), None),
+        false => (None, Some(frames)),
     };
-    let (history, frames, counters) = agreed(&sim, started)?;
-    let pieces = frames
-        .is_none()
-        .then(|| FrameRecorder::pieces(&out, counters.frames));
     let writers = if let Some(frames) = frames {
         // The law was resolved (and refused where bad) when the run was assembled, on
         // every rank alike: it cannot fail here, on rank 0 alone.
@@ -292,13 +264,8 @@ impl Live for DemRun {
                 threads,
                 frames: 0,
             };
-            let sum = summary(&self.name, "dem", sim, &outcome, costs, Default::default());
-            return Ok(Finished {
-                status: outcome.status,
-                checks: sum.checks.clone(),
-                summary: sum,
-                out: out.clone(),
-            });
+            let at = (self.name.as_str(), out.as_path());
+            return Ok(crate::ranks::finished_elsewhere(at, sim, outcome, costs));
         };
         plots::write_all(
             &out.join("plots"),

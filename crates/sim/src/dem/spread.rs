@@ -109,18 +109,22 @@ pub fn spread(src: &Source, n: usize) -> Result<Spread, String> {
         Scenario::Dem(s) => s,
         other => {
             return Err(format!(
-                "{}: --ranks: {} does not run on several ranks yet (docs/parallel.md); allowed: 2D DEM scenarios",
+                "{}: --ranks: {} (docs/parallel.md); allowed: 2D DEM scenarios",
                 src.origin,
                 match other {
-                    Scenario::Dem3(_) => "dim = 3".to_string(),
-                    _ => format!("engine = \"{}\"", other.engine()),
+                    // `mpirun` runs them; this report of the spread is not written yet.
+                    Scenario::Dem3(_) => "dim = 3 is not spread by `grains check` yet".to_string(),
+                    _ => format!(
+                        "engine = \"{}\" does not run on several ranks yet",
+                        other.engine()
+                    ),
                 }
-            ))
+            ));
         }
     };
     let refused = |e: String| format!("{}: {e}", src.origin);
-    let dims = ranks::grid(&s, n).map_err(refused)?;
-    let balance = ranks::balance(&s).map_err(refused)?;
+    let dims = ranks::grid(s.parallel.as_ref(), n).map_err(refused)?;
+    let balance = ranks::ParallelSpec::balance_of(s.parallel.as_ref()).map_err(refused)?;
     if n > 1 {
         if let Some(why) = ranks::unsupported(&s) {
             return Err(refused(why));

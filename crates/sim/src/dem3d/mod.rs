@@ -12,18 +12,19 @@ pub mod output;
 pub mod packing;
 pub mod pour;
 pub mod probes;
+pub mod ranks;
 pub mod run;
 pub mod scenario;
 pub mod silo;
 pub mod walls;
 
-use crate::driver::{Clock, ParticleView, Simulation};
+use crate::driver::{Clock, FrameKind, ParticleView, Simulation};
 use crate::forces::{Hook, Outside};
 use crate::history::Recorded;
 use crate::output::Capabilities;
 use grains_core::input::InputError;
 use grains_dem3d::diagnostics::{self, Diagnostics};
-use grains_dem3d::{step, step_with, Particles, Setup, State};
+use grains_dem3d::{step, step_with, Particles, Reduce, Setup, State};
 use std::borrow::Cow;
 
 /// What a 3D DEM run writes, and its defaults.
@@ -54,6 +55,9 @@ pub struct Dem3 {
     pub releases: Vec<(usize, f64)>,
     /// The energy ledger's start and what pours brought in ([`ledger`]).
     pub books: ledger::Books,
+    /// This rank's part of a run spread over ranks (`None`: the whole run is here).
+    /// Then `state` is rank 0's view, whole at frames, checkpoints and the end.
+    pub ranks: Option<Box<ranks::Part>>,
 }
 
 impl Dem3 {
@@ -86,6 +90,7 @@ impl Dem3 {
             pour: None,
             releases: Vec::new(),
             books: ledger::Books::default(),
+            ranks: None,
         }
     }
 }
@@ -102,6 +107,12 @@ impl Simulation for Dem3 {
 
     fn advance(&mut self) -> Result<(), String> {
         walls::release(&mut self.setup.walls, &self.releases, self.state.time);
+        if let Some(part) = self.ranks.as_mut() {
+            // Every rank moves every wall the same way: walls are on every rank.
+            grains_dem3d::walls::advance_walls(&mut self.setup, &mut part.local, self.dt);
+            part.advance(&self.setup, self.dt, &mut self.state);
+            return Ok(());
+        }
         // The walls first: the step's forces are those at its end, t + dt.
         grains_dem3d::walls::advance_walls(&mut self.setup, &mut self.state, self.dt);
         if self.outside.is_empty() {
@@ -123,7 +134,10 @@ impl Simulation for Dem3 {
     }
 
     fn sample(&mut self) -> Diagnostics {
-        diagnostics::measure(&self.setup, &self.state)
+        match &self.ranks {
+            Some(part) => part.sample(&self.setup),
+            None => diagnostics::measure(&self.setup, &self.state),
+        }
     }
 
     fn unstable(&self, d: &Diagnostics) -> Option<String> {
@@ -155,11 +169,14 @@ impl Simulation for Dem3 {
         self.state.particles.len()
     }
 
-    fn state_hash(&self) -> u64 {
-        diagnostics::state_hash(&self.state)
-    }
+    ranks::spread_methods!();
 
     fn checkpoint(&self) -> Option<Vec<u8>> {
+        // On several ranks rank 0 writes the whole state it has just gathered (in id
+        // order, the list rebuilt over the whole domain); the others write nothing.
+        if self.ranks.as_ref().is_some_and(|p| p.rank() != 0) {
+            return None;
+        }
         let mut bytes = Vec::with_capacity(400 * self.state.particles.len());
         grains_dem3d::checkpoint::write(&self.state, &mut bytes).ok()?;
         ledger::write_tail(self, &mut bytes).ok()?;

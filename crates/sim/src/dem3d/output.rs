@@ -20,30 +20,39 @@ fn flat(v: &[DVec3]) -> Vec<f64> {
 
 /// The spheres as VTK vertices with their fields.
 pub fn particles_polydata(setup: &Setup, s: &State) -> PolyData {
+    let all: Vec<usize> = (0..s.particles.len()).collect();
+    particles_polydata_of(setup, s, &all)
+}
+
+/// [`particles_polydata`] of the spheres `keep` (indices into `s`, in that order);
+/// their contacts and stress count every listed partner, ghosts included.
+pub fn particles_polydata_of(setup: &Setup, s: &State, keep: &[usize]) -> PolyData {
     let p = &s.particles;
     let stress = grains_dem3d::stress::particle_stress(setup, s);
     let contacts = diagnostics::contact_counts(setup, s);
+    let of = |v: &[DVec3]| -> Vec<f64> { flat(&keep.iter().map(|&i| v[i]).collect::<Vec<_>>()) };
+    let each = |f: &dyn Fn(usize) -> f64| -> Vec<f64> { keep.iter().map(|&i| f(i)).collect() };
+    let int = |f: &dyn Fn(usize) -> i32| -> Vec<i32> { keep.iter().map(|&i| f(i)).collect() };
     PolyData {
-        points: p.pos.iter().map(|x| x.to_array()).collect(),
-        verts: (0..p.len() as i64).map(|i| vec![i]).collect(),
+        points: keep.iter().map(|&i| p.pos[i].to_array()).collect(),
+        verts: (0..keep.len() as i64).map(|i| vec![i]).collect(),
         point_data: vec![
-            DataArray::scalar_i64("id", p.id.iter().map(|&k| k as i64).collect()),
-            DataArray::scalar_f64("radius", p.radius.clone()),
-            DataArray::scalar_f64("mass", (0..p.len()).map(|i| p.mass(i)).collect()),
-            DataArray::vector3_f64("velocity", flat(&p.vel)),
-            DataArray::scalar_f64("speed", p.vel.iter().map(|v| v.length()).collect()),
-            DataArray::vector3_f64("omega", flat(&p.omega)),
-            DataArray::vector3_f64("force", flat(&p.force)),
-            DataArray::scalar_i32("contacts", contacts.iter().map(|&c| c as i32).collect()),
-            DataArray::scalar_i32("material", p.material.iter().map(|&m| m as i32).collect()),
+            DataArray::scalar_i64("id", keep.iter().map(|&i| p.id[i] as i64).collect()),
+            DataArray::scalar_f64("radius", each(&|i| p.radius[i])),
+            DataArray::scalar_f64("mass", each(&|i| p.mass(i))),
+            DataArray::vector3_f64("velocity", of(&p.vel)),
+            DataArray::scalar_f64("speed", each(&|i| p.vel[i].length())),
+            DataArray::vector3_f64("omega", of(&p.omega)),
+            DataArray::vector3_f64("force", of(&p.force)),
+            DataArray::scalar_i32("contacts", int(&|i| contacts[i] as i32)),
+            DataArray::scalar_i32("material", int(&|i| p.material[i] as i32)),
             // Row-major 3 × 3, as ParaView reads a 9-component array.
             DataArray::new(
                 crate::dem::frames::STRESS_ARRAY,
                 9,
                 ArrayData::F64(
-                    stress
-                        .iter()
-                        .flat_map(|m| m.transpose().to_cols_array())
+                    keep.iter()
+                        .flat_map(|&i| stress[i].transpose().to_cols_array())
                         .collect(),
                 ),
             ),
@@ -54,8 +63,22 @@ pub fn particles_polydata(setup: &Setup, s: &State) -> PolyData {
 
 impl Framed for Dem3 {
     fn write_frame(&self, dir: &Path, k: usize) -> io::Result<Vec<(&'static str, String)>> {
-        let name = format!("particles_{k:05}.vtp");
-        particles_polydata(&self.setup, &self.state).write(&dir.join(&name))?;
+        let name = match &self.ranks {
+            Some(part) => {
+                // This rank's piece (its own spheres); rank 0 also the index over all.
+                let poly = particles_polydata_of(&self.setup, &part.local, &part.own());
+                let at = (part.rank(), part.ranks());
+                match crate::ranks::write_piece(&poly, dir, k, at)? {
+                    Some(index) => index,
+                    None => return Ok(Vec::new()),
+                }
+            }
+            None => {
+                let name = format!("particles_{k:05}.vtp");
+                particles_polydata(&self.setup, &self.state).write(&dir.join(&name))?;
+                name
+            }
+        };
         if self.lammps_dump {
             let dump = dir.join(format!("particles_{k:05}.dump"));
             write_atomic_with(&dump, |w| lammps_dump(w, &self.setup, &self.state))?;

@@ -5,18 +5,18 @@
 use super::assemble::{assemble, Assembled};
 use super::ledger::Books;
 use super::probes::Probes;
+use super::ranks::Part;
 use super::scenario::{Scenario, SphereSource};
 use super::{Dem3, CAPABILITIES};
 use crate::check::{Derived, Line};
 use crate::checkpoint;
 use crate::dem::rest::RestDetector;
-use crate::driver::{restore_observers, Every, Flow, Observer, Outcome, Status, Stepper};
+use crate::driver::{agreed, restore_observers, Every, Flow, Observer, Outcome, Status, Stepper};
 use crate::estimate::{rate, Estimate};
 use crate::frames::FrameRecorder;
 use crate::history::HistoryRecorder;
-use crate::run::{
-    finish, recorders, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions,
-};
+use crate::ranks::Link;
+use crate::run::{finish, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions};
 use crate::source::Source;
 use grains_core::history::History;
 use grains_dem3d::diagnostics::Diagnostics;
@@ -115,8 +115,10 @@ pub struct Dem3Run {
     pub sim: Dem3,
     stepper: Stepper,
     history: HistoryRecorder,
+    /// Rank 0's (or the only rank's) series; on the other ranks, their pieces.
     frames: FrameRecorder,
-    probes: Probes,
+    /// On rank 0 (or the only rank): the probes read every sphere.
+    probes: Option<Probes>,
     rest: Option<RestDetector>,
     name: String,
     out: PathBuf,
@@ -131,8 +133,31 @@ pub fn open(
     opts: &mut RunOptions,
     resume: Option<Resume>,
 ) -> Result<Dem3Run, RunError> {
+    open_on(s, src, opts, resume, None)
+}
+
+/// [`open`] on one of several ranks, `link` carrying the messages (`None`: one rank):
+/// every rank assembles the start and takes its part of it; rank 0 writes every
+/// output, the others step their part and write their pieces of the frames.
+pub fn open_on(
+    s: &Scenario,
+    src: &Source,
+    opts: &mut RunOptions,
+    resume: Option<Resume>,
+    link: Option<Link>,
+) -> Result<Dem3Run, RunError> {
     let input = |e: grains_core::input::InputError| RunError::Input(format!("{}: {e}", src.origin));
+    let refused = |e: String| RunError::Input(format!("{}: {e}", src.origin));
     fits(s, src, opts.threads).map_err(RunError::Input)?;
+    let n_ranks = link.as_ref().map_or(1, grains_dem::Reduce::ranks);
+    let dims = super::ranks::grid(s.parallel.as_ref(), n_ranks).map_err(refused)?;
+    let balance =
+        super::ranks::ParallelSpec::balance_of(s.parallel.as_ref()).map_err(refused)?;
+    if link.is_some() {
+        if let Some(why) = super::ranks::unsupported(s) {
+            return Err(refused(why));
+        }
+    }
     let Assembled {
         setup,
         particles,
@@ -183,14 +208,20 @@ pub fn open(
     if let Some(w) = e.warning() {
         opts.progress.announce(&format!("warning: {w}"));
     }
-    let (mut history, mut frames, counters) = recorders(
-        &out,
-        &src.text,
+    if let Some(link) = link {
+        let part = Part::new(link, &sim.setup, &sim.state, dims, balance).map_err(refused)?;
+        sim.ranks = Some(Box::new(part));
+    }
+    let leader = sim.ranks.as_ref().is_none_or(|p| p.rank() == 0);
+    let spread = sim.ranks.is_some();
+    let (mut history, mut frames, counters) = crate::ranks::recorders(
         &mut sim,
+        (leader, spread),
+        (&out, &src.text),
         &plan,
         resume.as_ref().map(|r| &r.progress.counters),
     )?;
-    let mut probes = Probes::new(&sim, &s.checks, restitution);
+    let mut probes = leader.then(|| Probes::new(&sim, &s.checks, restitution));
     let mut rest = s.run.stop_kinetic_ratio.map(|ratio| {
         let p = &sim.state.particles;
         let n = p.len();
@@ -203,12 +234,21 @@ pub fn open(
         let hold = s.run.stop_rest_time.unwrap_or(20.0 * every as f64 * dt);
         RestDetector::with_limit(ratio * weight * mean_d, hold)
     });
+    if !leader {
+        // Rank 0 holds the whole state; here it was needed only to take this part.
+        sim.state = State {
+            time: sim.state.time,
+            step: sim.state.step,
+            ..Default::default()
+        };
+    }
     let stepper = {
-        let mut observers: Vec<&mut dyn Observer<Dem3>> =
-            vec![&mut history, &mut frames, &mut probes];
-        observers.extend(rest.as_mut().map(|r| r as &mut dyn Observer<Dem3>));
+        let mut observers = watchers(&mut history, &mut frames, &mut probes, &mut rest);
         if let Some(r) = &resume {
-            restore_observers(&mut observers, &r.progress.observers)?;
+            agreed(
+                &sim,
+                restore_observers(&mut observers, &r.progress.observers),
+            )?;
         }
         Stepper::start(&sim, &mut observers, plan, counters)?
     };
@@ -229,9 +269,12 @@ impl Live for Dem3Run {
     type S = Dem3;
 
     fn parts(&mut self) -> (&mut Dem3, &mut Stepper, Vec<&mut dyn Observer<Dem3>>) {
-        let mut o: Vec<&mut dyn Observer<Dem3>> =
-            vec![&mut self.history, &mut self.frames, &mut self.probes];
-        o.extend(self.rest.as_mut().map(|r| r as &mut dyn Observer<Dem3>));
+        let o = watchers(
+            &mut self.history,
+            &mut self.frames,
+            &mut self.probes,
+            &mut self.rest,
+        );
         (&mut self.sim, &mut self.stepper, o)
     }
 
@@ -242,6 +285,17 @@ impl Live for Dem3Run {
     fn conclude(&mut self, outcome: Outcome, threads: usize) -> Result<Finished, RunError> {
         let (sim, out) = (&self.sim, &self.out);
         let h = &self.history.history;
+        if self.probes.is_none() {
+            // Another rank than 0: its part is done, rank 0 writes.
+            let costs = Costs {
+                dt: sim.dt,
+                dt_critical: self.dt_critical,
+                threads,
+                frames: 0,
+            };
+            let at = (self.name.as_str(), out.as_path());
+            return Ok(crate::ranks::finished_elsewhere(at, sim, outcome, costs));
+        }
         super::output::write_plots(&out.join("plots"), h, &sim.setup, &sim.state)?;
         super::ledger::plot(&out.join("plots"), h)?;
         let mut outcome = outcome;
@@ -267,6 +321,19 @@ impl Live for Dem3Run {
         }
         finish(sum, outcome.status, out)
     }
+}
+
+/// The observers of a run, in the order they see each step.
+fn watchers<'a>(
+    history: &'a mut HistoryRecorder,
+    frames: &'a mut FrameRecorder,
+    probes: &'a mut Option<Probes>,
+    rest: &'a mut Option<RestDetector>,
+) -> Vec<&'a mut dyn Observer<Dem3>> {
+    let mut o: Vec<&mut dyn Observer<Dem3>> = vec![history, frames];
+    o.extend(probes.as_mut().map(|p| p as &mut dyn Observer<Dem3>));
+    o.extend(rest.as_mut().map(|r| r as &mut dyn Observer<Dem3>));
+    o
 }
 
 impl Observer<Dem3> for RestDetector {

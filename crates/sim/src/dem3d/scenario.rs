@@ -52,6 +52,9 @@ pub struct Scenario {
     /// Validation checks written into summary.json.
     #[serde(rename = "check", default)]
     pub checks: Vec<CheckSpec>,
+    /// `[parallel]`: how a run under `mpirun` is spread over its ranks.
+    #[serde(default)]
+    pub parallel: Option<super::ranks::ParallelSpec>,
 }
 
 /// `[analysis]`: what the run analyses beside its history.

@@ -1,0 +1,239 @@
+// One rank's part of a DEM run spread over ranks, for both dimensions: compiled once
+// per engine, as a child of `dem::ranks` (which names `grains_dem` its `engine`) and of
+// `dem3d::ranks` (`grains_dem3d`), as the engine's own source is built twice.
+//
+// Each rank steps its box of the domain (the engine's `decomp`), every global figure
+// is reduced over the ranks, and rank 0 holds the whole state, gathered, at frames,
+// checkpoints and the end, for the observers that read every particle. The history
+// rows need the samples (reduced on every rank) and the time, step, build count, wall
+// loads and the ledger (the same on every rank, copied into rank 0's view every step).
+
+use super::engine::comm::Post;
+use super::engine::decomp::{Decomposed, GridError};
+use super::engine::diagnostics::Diagnostics;
+use super::engine::math::DIM;
+use super::engine::{step_on, NoHooks, Reduce, Setup, State};
+use crate::ranks::Link;
+use serde::{Deserialize, Serialize};
+
+/// `[parallel]`: how a run under `mpirun` is spread over its ranks.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelSpec {
+    /// Ranks along each axis; their product must be the number of ranks the run is
+    /// started on (default: the grid with the shortest cuts for that number).
+    #[serde(default)]
+    pub ranks: Option<[usize; DIM]>,
+    /// Load balancing: the most particles on a rank over the mean past which the cut
+    /// planes between the ranks' boxes move (a number above 1, default
+    /// [`crate::ranks::DEFAULT_BALANCE`]), or `"off"` for equal boxes throughout. Any
+    /// value is read here and checked by [`crate::ranks::balance`], which names what is
+    /// allowed.
+    #[serde(default)]
+    pub balance: Option<toml::Value>,
+}
+
+impl ParallelSpec {
+    /// The balance threshold of `spec` (the default when there is no `[parallel]`).
+    pub fn balance_of(spec: Option<&ParallelSpec>) -> Result<Option<f64>, String> {
+        crate::ranks::balance(spec.and_then(|p| p.balance.as_ref()))
+    }
+}
+
+/// The rank grid `[parallel] ranks` asks for on `ranks` ranks (`None`: chosen), or why
+/// it cannot be, as one line naming the key, the value and what is allowed.
+pub fn grid(spec: Option<&ParallelSpec>, ranks: usize) -> Result<Option<[usize; DIM]>, String> {
+    let Some(dims) = spec.and_then(|p| p.ranks) else {
+        return Ok(None);
+    };
+    let shown: Vec<String> = dims.iter().map(usize::to_string).collect();
+    let shown = format!("[{}]", shown.join(", "));
+    if dims.contains(&0) {
+        return Err(format!("parallel.ranks = {shown}: each must be at least 1"));
+    }
+    let product: usize = dims.iter().product();
+    if product != ranks {
+        return Err(format!(
+            "parallel.ranks = {shown} makes {product} ranks, but the run has {ranks}; allowed: a grid whose product is {ranks} (or no parallel.ranks)"
+        ));
+    }
+    Ok(Some(dims))
+}
+
+impl Reduce for Link {
+    fn ranks(&self) -> usize {
+        grains_dem::Reduce::ranks(&*self.0)
+    }
+
+    fn rank(&self) -> usize {
+        grains_dem::Reduce::rank(&*self.0)
+    }
+
+    fn sum(&self, values: &mut [f64]) {
+        grains_dem::Reduce::sum(&*self.0, values);
+    }
+
+    fn sum_u64(&self, values: &mut [u64]) {
+        grains_dem::Reduce::sum_u64(&*self.0, values);
+    }
+
+    fn max(&self, values: &mut [f64]) {
+        grains_dem::Reduce::max(&*self.0, values);
+    }
+
+    fn gather(&self, words: Vec<u64>) -> Vec<u64> {
+        grains_dem::Reduce::gather(&*self.0, words)
+    }
+}
+
+impl Post for Link {
+    fn exchange(&self, outgoing: Vec<(usize, Vec<u8>)>, from: &[usize]) -> Vec<Vec<u8>> {
+        grains_dem::comm::Post::exchange(&*self.0, outgoing, from)
+    }
+}
+
+/// This rank's part of a run spread over ranks.
+pub struct Part {
+    /// Its particles, then its ghosts.
+    pub local: State,
+    /// The decomposition and its transport.
+    pub dec: Decomposed<Link>,
+    /// The state hash over every rank at the last gather.
+    hash: u64,
+}
+
+impl Part {
+    /// This rank's part of `whole` (the start every rank assembled) on the grid `dims`
+    /// (chosen when `None`), its cuts moved when the ranks' particle counts are more
+    /// uneven than `balance` ([`ParallelSpec::balance_of`]); one line naming what does
+    /// not fit when it cannot be.
+    pub fn new(
+        link: Link,
+        setup: &Setup,
+        whole: &State,
+        dims: Option<[usize; DIM]>,
+        balance: Option<f64>,
+    ) -> Result<Part, String> {
+        let r_max = whole.particles.radius.iter().fold(0.0f64, |a, &r| a.max(r));
+        let n = link.ranks();
+        let mut dec = Decomposed::new(link, setup, dims, r_max)
+            .map_err(|e| match dims {
+                Some(_) if !matches!(e, GridError::Unsupported(_)) => format!("parallel.{e}"),
+                _ => format!("mpirun -np {n}: {e}"),
+            })?
+            .with_balance(balance);
+        let local = dec.start(setup, whole);
+        let hash = dec.state_hash(&local);
+        Ok(Part { local, dec, hash })
+    }
+
+    /// This rank.
+    pub fn rank(&self) -> usize {
+        self.dec.rank()
+    }
+
+    /// Ranks the run is spread over.
+    pub fn ranks(&self) -> usize {
+        self.dec.ranks()
+    }
+
+    /// One step of this rank's part; `view` (rank 0's whole state between gathers)
+    /// takes what every rank knows: time, step, build count, wall loads and poses, and
+    /// the energy ledger (summed in id order over the ranks: the serial one).
+    pub fn advance(&mut self, setup: &Setup, dt: f64, view: &mut State) {
+        step_on(setup, &mut self.local, dt, &mut NoHooks, &mut self.dec);
+        let s = &self.local;
+        view.time = s.time;
+        view.step = s.step;
+        view.contacts.builds = s.contacts.builds;
+        view.wall_loads.clone_from(&s.wall_loads);
+        view.walls.clone_from(&s.walls);
+        view.ledger = s.ledger;
+    }
+
+    /// The run's figures over every rank, the serial ones bit for bit (on every rank).
+    pub fn sample(&self, setup: &Setup) -> Diagnostics {
+        self.dec.measure(setup, &self.local)
+    }
+
+    /// The first of `test`'s findings on any rank, in rank order (on every rank).
+    pub fn first(&self, test: impl Fn(&State) -> Option<String>) -> Option<String> {
+        let mine = test(&self.local).unwrap_or_default();
+        let mut words = vec![mine.len() as u64];
+        words.extend(mine.bytes().map(u64::from));
+        let all = self.dec.gather(words);
+        let mut at = 0;
+        while at < all.len() {
+            let n = all[at] as usize;
+            if n > 0 {
+                let bytes: Vec<u8> = all[at + 1..at + 1 + n].iter().map(|&b| b as u8).collect();
+                return Some(String::from_utf8_lossy(&bytes).into_owned());
+            }
+            at += 1 + n;
+        }
+        None
+    }
+
+    /// Gathers the whole state into rank 0's `view` (the other ranks' stays as it is)
+    /// and takes the state hash over every rank.
+    pub fn gather(&mut self, setup: &Setup, view: &mut State) {
+        if let Some(whole) = self.dec.gather_whole(setup, &self.local) {
+            *view = whole;
+            view.ledger = self.local.ledger;
+        }
+        self.hash = self.dec.state_hash(&self.local);
+    }
+
+    /// The state hash over every rank at the last gather (the serial run's).
+    pub fn hash(&self) -> u64 {
+        self.hash
+    }
+
+    /// This rank's own particles (not its ghosts), as indices into `local`.
+    pub fn own(&self) -> Vec<usize> {
+        (0..self.local.particles.len())
+            .filter(|&i| self.dec.owns(i))
+            .collect()
+    }
+}
+
+/// The [`crate::driver::Simulation`] methods that a simulation spread over ranks answers
+/// through its `ranks: Option<Box<Part>>` (`None`: the whole run is here, in `state`):
+/// the state hash, the gather, which frames read the whole state, the agreement and
+/// the rank count. Expanded inside the engine's `impl Simulation`, where
+/// `diagnostics`, `FrameKind` and `Reduce` are in scope.
+macro_rules! spread_methods {
+    () => {
+        fn state_hash(&self) -> u64 {
+            match &self.ranks {
+                Some(part) => part.hash(),
+                None => diagnostics::state_hash(&self.state),
+            }
+        }
+
+        fn gather(&mut self) {
+            if let Some(part) = self.ranks.as_mut() {
+                part.gather(&self.setup, &mut self.state);
+            }
+        }
+
+        fn frame_reads_whole(&self, kind: FrameKind) -> bool {
+            // Each rank writes its piece of a frame; the snapshot maps and a LAMMPS
+            // dump are drawn from every particle on rank 0.
+            self.ranks.is_none() || kind != FrameKind::Regular || self.lammps_dump
+        }
+
+        fn agree(&self, flag: bool) -> bool {
+            match &self.ranks {
+                Some(part) => part.dec.any(flag),
+                None => flag,
+            }
+        }
+
+        fn ranks(&self) -> usize {
+            self.ranks.as_ref().map_or(1, |p| p.dec.ranks())
+        }
+    };
+}
+
+pub(crate) use spread_methods;
