@@ -232,6 +232,29 @@ fn spheres_pack_and_start_a_3d_run() {
     let phi = f["packing_fraction_bulk"].as_f64().unwrap();
     assert!((0.4..0.7).contains(&phi), "{s}");
     assert!(f["mean_coordination"].as_f64().unwrap() > 4.0, "{s}");
+    // The frame and the plots: the spheres from the side and from above, and the
+    // distribution of contacts per sphere beside its data.
+    let out = dir.path().join("out");
+    for file in [
+        "plots/packing_side.png",
+        "plots/packing_top.png",
+        "plots/contacts.png",
+    ] {
+        assert!(out.join(file).is_file(), "{file} missing");
+    }
+    let vtp = std::fs::read(out.join("frames/packing.vtp")).unwrap();
+    let vtp = String::from_utf8_lossy(&vtp);
+    assert!(vtp.contains("NumberOfPoints=\"60\""), "{vtp}");
+    for array in ["radius", "contacts", "rattler", "interior"] {
+        assert!(vtp.contains(&format!("Name=\"{array}\"")), "{array}");
+    }
+    let csv = std::fs::read_to_string(out.join("plots/contacts.csv")).unwrap();
+    let all: f64 = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse::<f64>().unwrap())
+        .sum();
+    assert!((all - 1.0).abs() < 1e-12, "{csv}");
     let scenario = r#"engine = "dem"
 dim = 3
 name = "from_packing"

@@ -155,6 +155,12 @@ pub struct SpherePacking {
     pub fabric_deviator: [f64; 3],
     /// Minimisations done.
     pub minimisations: u32,
+    /// Each sphere's contacts with other spheres and the walls, rattlers' included.
+    pub contacts: Vec<u32>,
+    /// Whether each sphere is a rattler (left out of `coordination`).
+    pub rattler: Vec<bool>,
+    /// Whether each sphere's centre lies in the central sub-volume.
+    pub interior: Vec<bool>,
 }
 
 /// Packs `n` spheres of the bidisperse 50:50 mixture of diameters `d` and `ratio · d`
@@ -260,7 +266,15 @@ fn measure(
                 .map(|i| vol_of(rad[i]))
                 .sum();
             let solid: f64 = rad.iter().map(|&r| vol_of(r)).sum();
+            let mut each = walls.clone();
+            for &(i, j) in &pairs {
+                each[i] += 1;
+                each[j] += 1;
+            }
             return SpherePacking {
+                contacts: each.iter().map(|&c| c as u32).collect(),
+                rattler: alive.iter().map(|a| !a).collect(),
+                interior: (0..n).map(|i| box_.inner(pos[i], margin)).collect(),
                 phi_bulk: solid / box_.volume(),
                 phi_interior: inner / box_.inner_volume(margin),
                 margin: margin * unit,

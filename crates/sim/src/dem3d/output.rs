@@ -10,7 +10,7 @@ use glam::{DVec2, DVec3};
 use grains_core::atomic::write_atomic_with;
 use grains_core::plot::{time_label, Outline, ParticleMap};
 use grains_core::vtk::{ArrayData, DataArray, PolyData};
-use grains_dem3d::{diagnostics, Setup, State, WallShape};
+use grains_dem3d::{diagnostics, Setup, State, Wall, WallShape};
 use std::io::{self, Write};
 use std::path::Path;
 
@@ -146,6 +146,45 @@ struct View {
     what: String,
 }
 
+/// What views of spheres are drawn in: the box whose corners bound the lines drawn
+/// (the domain), gravity (which way is up) and the walls.
+pub struct Scene<'a> {
+    /// Lower corner (m).
+    pub lo: DVec3,
+    /// Upper corner (m).
+    pub hi: DVec3,
+    /// Gravity (m/s²); zero is taken as along −z.
+    pub gravity: DVec3,
+    /// The walls drawn.
+    pub walls: &'a [Wall],
+}
+
+impl<'a> Scene<'a> {
+    /// A run's scene: its domain, gravity and walls.
+    pub fn of(setup: &'a Setup) -> Self {
+        Scene {
+            lo: setup.domain.lo,
+            hi: setup.domain.hi,
+            gravity: setup.gravity,
+            walls: &setup.walls,
+        }
+    }
+}
+
+/// Spheres coloured by one value each, as [`write_views`] draws them.
+pub struct Coloured<'a> {
+    /// Centres (m).
+    pub pos: &'a [DVec3],
+    /// Radii (m).
+    pub radius: &'a [f64],
+    /// The value each sphere is coloured by.
+    pub values: &'a [f64],
+    /// The values' name and unit, for the colour bar ("speed (m/s)").
+    pub label: &'a str,
+    /// What the values are, for the title ("speed").
+    pub by: &'a str,
+}
+
 /// A direction's name: a coordinate axis (signed), or `other` when it is none.
 fn axis_name(u: DVec3, other: &str) -> String {
     for (a, name) in ["x", "y", "z"].iter().enumerate() {
@@ -164,15 +203,15 @@ fn axis_name(u: DVec3, other: &str) -> String {
 /// the side is a vertical plane (gravity pointing down the screen) seen along a turning
 /// cylinder's axis where one lies across gravity (a drum is seen end-on, as a circle),
 /// else along a coordinate axis across gravity (y when gravity is along −z).
-fn views(setup: &Setup) -> [View; 2] {
-    let g = setup.gravity;
+fn views(scene: &Scene) -> [View; 2] {
+    let g = scene.gravity;
     let up = if g == DVec3::ZERO {
         DVec3::Z
     } else {
         -g.normalize()
     };
     let across = |u: DVec3| u.dot(up).abs() < 1e-9;
-    let drum = setup.walls.iter().find_map(|w| match w.shape {
+    let drum = scene.walls.iter().find_map(|w| match w.shape {
         WallShape::Cylinder { axis, .. } => {
             let a = DVec3::from(axis).normalize();
             across(a).then_some(a)
@@ -204,7 +243,7 @@ fn views(setup: &Setup) -> [View; 2] {
             e2: up,
             toward: side_toward,
             names: [r.clone(), u.clone()],
-            file: "particles_side.png",
+            file: "side",
             what: format!(
                 "from the side (along {}; gravity down)",
                 axis_name(-side_toward, "the view")
@@ -215,16 +254,17 @@ fn views(setup: &Setup) -> [View; 2] {
             e2: top_e2,
             toward: up,
             names: [r, axis_name(top_e2, "t")],
-            file: "particles_top.png",
+            file: "top",
             what: format!("from above (along gravity, {})", axis_name(-up, "g")),
         },
     ]
 }
 
-/// The walls as seen in `v`, within the domain: planes seen edge-on as lines, cylinders
-/// along the view as circles and across it as their two sides, spheres as circles.
-fn outlines(setup: &Setup, v: &View) -> Vec<Outline> {
-    let (lo, hi) = (setup.domain.lo, setup.domain.hi);
+/// The walls as seen in `v`, within the scene's box: planes seen edge-on as lines,
+/// cylinders along the view as circles and across it as their two sides, spheres as
+/// circles.
+fn outlines(scene: &Scene, v: &View) -> Vec<Outline> {
+    let (lo, hi) = (scene.lo, scene.hi);
     // The domain's corners in the view: the box lines are cut to.
     let frame = (0..8).fold(
         (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
@@ -269,7 +309,7 @@ fn outlines(setup: &Setup, v: &View) -> Vec<Outline> {
         })
     };
     let mut out = Vec::new();
-    for w in &setup.walls {
+    for w in scene.walls {
         match w.shape {
             WallShape::Plane { point, normal } => {
                 let n = DVec3::from(normal).normalize();
@@ -386,29 +426,51 @@ pub fn write_plots(
     };
     crate::dem::plots::history_plots(dir, h, &walls, &["x", "y", "z"], &units)?;
     let p = &s.particles;
-    for v in &views(setup) {
+    let speed: Vec<f64> = p.vel.iter().map(|v| v.length()).collect();
+    let spheres = Coloured {
+        pos: &p.pos,
+        radius: &p.radius,
+        values: &speed,
+        label: "speed (m/s)",
+        by: "speed",
+    };
+    let title = format!("Spheres at t = {}", time_label(s.time));
+    write_views(dir, &Scene::of(setup), &spheres, &title, "particles")
+}
+
+/// Writes `spheres` seen from the side and from above ([`views`]) with the scene's
+/// walls, as `{stem}_side.png` and `{stem}_top.png` in `dir`; `title` begins each
+/// plot's title ("Spheres at t = 1 s").
+pub fn write_views(
+    dir: &Path,
+    scene: &Scene,
+    spheres: &Coloured,
+    title: &str,
+    stem: &str,
+) -> anyhow::Result<()> {
+    for v in &views(scene) {
         // The far spheres first, so the near ones are drawn over them.
-        let mut order: Vec<usize> = (0..p.len()).collect();
-        order.sort_by(|&a, &b| p.pos[a].dot(v.toward).total_cmp(&p.pos[b].dot(v.toward)));
+        let pos = spheres.pos;
+        let mut order: Vec<usize> = (0..pos.len()).collect();
+        order.sort_by(|&a, &b| pos[a].dot(v.toward).total_cmp(&pos[b].dot(v.toward)));
         let centres: Vec<DVec2> = order
             .iter()
-            .map(|&i| DVec2::new(p.pos[i].dot(v.e1), p.pos[i].dot(v.e2)))
+            .map(|&i| DVec2::new(pos[i].dot(v.e1), pos[i].dot(v.e2)))
             .collect();
-        let radii: Vec<f64> = order.iter().map(|&i| p.radius[i]).collect();
-        let speed: Vec<f64> = order.iter().map(|&i| p.vel[i].length()).collect();
+        let radii: Vec<f64> = order.iter().map(|&i| spheres.radius[i]).collect();
+        let values: Vec<f64> = order.iter().map(|&i| spheres.values[i]).collect();
         ParticleMap {
-            title: &format!(
-                "Spheres at t = {} seen {}, coloured by speed",
-                time_label(s.time),
-                v.what
-            ),
+            title: &format!("{title} seen {}, coloured by {}", v.what, spheres.by),
             centres: &centres,
             radii: &radii,
-            values: &speed,
-            value_label: "speed (m/s)",
-            outlines: &outlines(setup, v),
+            values: &values,
+            value_label: spheres.label,
+            outlines: &outlines(scene, v),
         }
-        .write_png_axes(&dir.join(v.file), [&v.names[0], &v.names[1]])?;
+        .write_png_axes(
+            &dir.join(format!("{stem}_{}.png", v.file)),
+            [&v.names[0], &v.names[1]],
+        )?;
     }
     Ok(())
 }

@@ -1,7 +1,10 @@
 //! `grains pack` for spheres: a spec with `dim = 3` ([`grains_pack::sphere_spec`])
 //! packed to jamming by [`grains_pack::spheres::jam`]; writes the spec's copy,
-//! `packing.txt` (`x y z r`, which a 3D scenario loads with `source = "file"`) and
-//! summary.json with the solid fraction, the coordination and the fabric.
+//! `packing.txt` (`x y z r`, which a 3D scenario loads with `source = "file"`), a
+//! frame and plots ([`output`]) and summary.json with the solid fraction, the
+//! coordination and the fabric.
+
+mod output;
 
 use crate::pack::{spec_checks, Packed};
 use grains_core::atomic::write_atomic;
@@ -61,6 +64,7 @@ pub fn pack(p: &Prepared, out: &Path) -> anyhow::Result<Packed> {
         &out.join("packing.txt"),
         packing_text(s, &packing).as_bytes(),
     )?;
+    output::write_outputs(out, &packing)?;
     let n = packing.radius.len();
     let mut fig = Map::new();
     for (k, v) in [
