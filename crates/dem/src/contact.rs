@@ -45,6 +45,36 @@ pub enum ContactModel {
     },
 }
 
+impl ContactModel {
+    /// LAMMPS `gran/hooke/history kn NULL gamma_n NULL mu 0` (`NULL`: LAMMPS's own
+    /// k_t = 2/7 k_n and γt = γn/2), the law of the peer decks.
+    pub fn hooke_history(kn: f64, gamma_n: f64, mu: f64) -> Self {
+        ContactModel::HookeHistory {
+            kn,
+            // LAMMPS's expression, so the spring is its own to the last bit.
+            kt: kn * 2.0 / 7.0,
+            gamma_n,
+            gamma_t: 0.5 * gamma_n,
+            mu,
+            limit_damping: false,
+        }
+    }
+
+    /// The linear model of a set-up whose contacts a granular law carries
+    /// ([`crate::setup::Setup::granular`]), which never reads it: unit springs, no
+    /// damping or friction, so it passes the linear model's checks.
+    pub fn unused() -> Self {
+        ContactModel::HookeHistory {
+            kn: 1.0,
+            kt: 1.0,
+            gamma_n: 0.0,
+            gamma_t: 0.0,
+            mu: 0.0,
+            limit_damping: false,
+        }
+    }
+}
+
 impl Default for ContactModel {
     fn default() -> Self {
         ContactModel::Material {

@@ -548,14 +548,7 @@ mod tests {
             friction: None,
             inertia_factor: 0.4,
         };
-        let model = ContactModel::HookeHistory {
-            kn: 1.0,
-            kt: 1.0,
-            gamma_n: 0.0,
-            gamma_t: 0.0,
-            mu: 0.0,
-            limit_damping: false,
-        };
+        let model = ContactModel::unused();
         let mut lo = Vector::ZERO;
         let mut hi = Vector::ZERO;
         let mut periodic = [true; math::DIM];

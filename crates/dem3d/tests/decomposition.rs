@@ -32,14 +32,7 @@ fn material() -> Material {
 
 /// The linear law with history: k_t = 2/7 k_n, γ_t = γ_n / 2, μ = 0.3.
 fn hooke() -> ContactModel {
-    ContactModel::HookeHistory {
-        kn: 4000.0,
-        kt: 4000.0 * 2.0 / 7.0,
-        gamma_n: 87.0,
-        gamma_t: 43.5,
-        mu: 0.3,
-        limit_damping: false,
-    }
+    ContactModel::hooke_history(4000.0, 87.0, 0.3)
 }
 
 /// Hertz–Mindlin with Tsuji damping, `sds` rolling and `marshall` twisting resistance.

@@ -23,18 +23,6 @@ fn glass() -> Material {
     }
 }
 
-/// LAMMPS `hooke/history` parameters: kn, kt = 2/7 kn, damping γn, γt = γn/2, μ.
-fn hooke(kn: f64, gamma_n: f64, mu: f64) -> ContactModel {
-    ContactModel::HookeHistory {
-        kn,
-        kt: 2.0 / 7.0 * kn,
-        gamma_n,
-        gamma_t: 0.5 * gamma_n,
-        mu,
-        limit_damping: false,
-    }
-}
-
 fn setup(model: ContactModel, walls: Vec<Wall>, gravity: DVec3, periodic: [bool; 3]) -> Setup {
     let domain = Domain {
         lo: DVec3::ZERO,
@@ -68,7 +56,12 @@ fn a_sphere_has_the_mass_and_inertia_of_a_ball() {
 #[test]
 fn head_on_restitution_and_contact_time_of_the_linear_law() {
     let (kn, gamma_n) = (1e5, 40.0);
-    let s = setup(hooke(kn, gamma_n, 0.0), vec![], DVec3::ZERO, [false; 3]);
+    let s = setup(
+        ContactModel::hooke_history(kn, gamma_n, 0.0),
+        vec![],
+        DVec3::ZERO,
+        [false; 3],
+    );
     let r = 0.005;
     let mut p = Particles::default();
     // Along a diagonal, so every axis takes part.
@@ -111,7 +104,12 @@ fn head_on_restitution_and_contact_time_of_the_linear_law() {
 #[test]
 fn oblique_impact_on_a_plane_spins_the_sphere_as_the_rigid_body_limit() {
     let mu = 0.1;
-    let s = setup(hooke(1e6, 0.0, mu), vec![floor()], DVec3::ZERO, [false; 3]);
+    let s = setup(
+        ContactModel::hooke_history(1e6, 0.0, mu),
+        vec![floor()],
+        DVec3::ZERO,
+        [false; 3],
+    );
     let r = 0.005;
     let (vt, vn) = (2.0, 1.0);
     let mut p = Particles::default();
@@ -196,7 +194,12 @@ fn cloud(n_side: usize, r: f64, jitter: u64) -> Particles {
 #[test]
 fn a_free_cloud_keeps_its_momenta() {
     for mu in [0.0, 0.5] {
-        let s = setup(hooke(1e5, 20.0, mu), vec![], DVec3::ZERO, [false; 3]);
+        let s = setup(
+            ContactModel::hooke_history(1e5, 20.0, mu),
+            vec![],
+            DVec3::ZERO,
+            [false; 3],
+        );
         let mut st = State::new(&s, cloud(5, 0.002, 7));
         let moments = |st: &State| {
             let p = &st.particles;
@@ -229,7 +232,7 @@ fn a_free_cloud_keeps_its_momenta() {
 fn a_settled_column_rests_its_weight_on_the_floor() {
     let g = DVec3::new(0.0, 0.0, -9.81);
     let mut s = setup(
-        hooke(2e4, 200.0, 0.5),
+        ContactModel::hooke_history(2e4, 200.0, 0.5),
         vec![floor()],
         g,
         [true, true, false],
@@ -253,7 +256,7 @@ fn a_settled_column_rests_its_weight_on_the_floor() {
 fn bed() -> (Setup, Particles) {
     let g = DVec3::new(0.0, 0.0, -9.81);
     let mut s = setup(
-        hooke(2e4, 200.0, 0.5),
+        ContactModel::hooke_history(2e4, 200.0, 0.5),
         vec![floor()],
         g,
         [true, true, false],
@@ -334,7 +337,12 @@ fn the_material_route_is_refused_in_3d() {
 #[test]
 fn a_spring_survives_a_change_of_row_owner() {
     let run = |lift: f64| {
-        let mut s = setup(hooke(1e5, 0.0, 0.8), vec![], DVec3::ZERO, [false; 3]);
+        let mut s = setup(
+            ContactModel::hooke_history(1e5, 0.0, 0.8),
+            vec![],
+            DVec3::ZERO,
+            [false; 3],
+        );
         // Cells 0.01001 wide; rebuilt every few steps.
         s.skin = 1e-5;
         let r = 0.005;
@@ -401,7 +409,12 @@ fn chung_ooi_test_1_hertz_impact_of_two_spheres() {
         1.0,
         0.35,
     );
-    let mut s = setup(hooke(1.0, 0.0, 0.0), vec![], DVec3::ZERO, [false; 3]);
+    let mut s = setup(
+        ContactModel::hooke_history(1.0, 0.0, 0.0),
+        vec![],
+        DVec3::ZERO,
+        [false; 3],
+    );
     s.granular = Some(PairTable::from_fn(1, |_, _| law));
     let mut p = Particles::default();
     p.push(
@@ -551,7 +564,12 @@ fn alumina(
         damp: sphere.damp,
         ..GranularParams::mixed(&sphere, &wall, [youngs, 1000.0 * youngs], [nu, nu])
     };
-    let mut s = setup(hooke(1.0, 0.0, 0.0), vec![floor()], DVec3::ZERO, [false; 3]);
+    let mut s = setup(
+        ContactModel::hooke_history(1.0, 0.0, 0.0),
+        vec![floor()],
+        DVec3::ZERO,
+        [false; 3],
+    );
     s.walls[0].material = Some(1);
     s.materials.push(glass());
     s.pairs = PairTable::new(&s.model, &s.materials);

@@ -29,14 +29,7 @@ pub fn material() -> Material {
 
 /// The linear law a set-up is made with before its granular table replaces it.
 pub fn placeholder() -> ContactModel {
-    ContactModel::HookeHistory {
-        kn: 1.0,
-        kt: 1.0,
-        gamma_n: 0.0,
-        gamma_t: 0.0,
-        mu: 0.0,
-        limit_damping: false,
-    }
+    ContactModel::unused()
 }
 
 /// A vector from its horizontal components (the first DIM − 1 of `h`) and its vertical

@@ -328,14 +328,7 @@ fn engine(name: &str) -> f64 {
         hi: Vector::splat(1.0),
         periodic: [false; DIM],
     };
-    let model = ContactModel::HookeHistory {
-        kn: 1.0,
-        kt: 1.0,
-        gamma_n: 0.0,
-        gamma_t: 0.0,
-        mu: 0.0,
-        limit_damping: false,
-    };
+    let model = ContactModel::unused();
     let materials = (1..=types).map(material).collect();
     let mut setup = Setup::new(domain, materials, model, Vec::new(), Vector::ZERO, 1e-3).unwrap();
     setup.granular = Some(PairTable::from_fn(types, |a, b| *d.law(a + 1, b + 1)));

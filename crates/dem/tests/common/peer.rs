@@ -20,14 +20,7 @@ pub fn material() -> Material {
 
 /// The linear law with history: k_t = 2/7 k_n, γ_t = γ_n / 2, μ = 0.3.
 pub fn hooke(kn: f64, gamma_n: f64) -> ContactModel {
-    ContactModel::HookeHistory {
-        kn,
-        kt: kn * 2.0 / 7.0,
-        gamma_n,
-        gamma_t: 0.5 * gamma_n,
-        mu: 0.3,
-        limit_damping: false,
-    }
+    ContactModel::hooke_history(kn, gamma_n, 0.3)
 }
 
 /// The floor y = 0.

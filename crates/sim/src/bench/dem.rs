@@ -85,14 +85,7 @@ pub fn peer_setup(lo: DVec2, hi: DVec2) -> Setup {
         // LAMMPS `fix nve/sphere` (no `disc` keyword) integrates rotation with I = 0.4 m r².
         inertia_factor: 0.4,
     };
-    let model = ContactModel::HookeHistory {
-        kn: 4000.0,
-        kt: 4000.0 * 2.0 / 7.0,
-        gamma_n: 87.0,
-        gamma_t: 43.5,
-        mu: 0.3,
-        limit_damping: false,
-    };
+    let model = ContactModel::hooke_history(4000.0, 87.0, 0.3);
     let domain = Domain {
         lo,
         hi,

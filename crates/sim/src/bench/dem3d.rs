@@ -130,14 +130,7 @@ pub fn deck_setup(lo: DVec3, hi: DVec3) -> Setup {
     };
     // The linear model is a placeholder: the granular table below replaces it for every
     // pair and wall.
-    let model = ContactModel::HookeHistory {
-        kn: 1.0,
-        kt: 1.0,
-        gamma_n: 0.0,
-        gamma_t: 0.0,
-        mu: 0.0,
-        limit_damping: false,
-    };
+    let model = ContactModel::unused();
     let domain = Domain {
         lo,
         hi,

@@ -363,19 +363,6 @@ fn granular(
     Ok((p, e))
 }
 
-/// The linear model of a set-up under the granular law, which does not use it (it passes
-/// the linear model's checks).
-fn placeholder() -> ContactModel {
-    ContactModel::HookeHistory {
-        kn: 1.0,
-        kt: 1.0,
-        gamma_n: 0.0,
-        gamma_t: 0.0,
-        mu: 0.0,
-        limit_damping: false,
-    }
-}
-
 /// The material route (2D): its one key `limit_damping`; the engine's set-up checks
 /// that the materials give what it derives the law from.
 fn material_route(c: &LawSpec, n: usize) -> Result<Laws, InputError> {
@@ -424,7 +411,7 @@ pub fn resolve(c: &LawSpec, materials: &[Material]) -> Result<Laws, InputError> 
         return material_route(c, materials.len());
     }
     // The materials' own ranges first, so that an error names the material's key.
-    super::engine::setup::validate_materials(&placeholder(), materials)?;
+    super::engine::setup::validate_materials(&ContactModel::unused(), materials)?;
     validate_shape(c, materials)?;
     let n = materials.len();
     if c.pair.is_empty() && c.model == Some(LawModel::HookeHistory) {
@@ -451,7 +438,7 @@ pub fn resolve(c: &LawSpec, materials: &[Material]) -> Result<Laws, InputError> 
         }
     }
     Ok(Laws {
-        model: placeholder(),
+        model: ContactModel::unused(),
         granular: Some(PairTable::from_fn(n, |a, b| laws[a * n + b].0)),
         restitution: PairTable::from_fn(n, |a, b| laws[a * n + b].1),
     })
