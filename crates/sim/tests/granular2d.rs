@@ -1,5 +1,6 @@
 //! 2D scenarios under LAMMPS's granular law (the `[contact]` table the 3D scenarios take):
-//! the run, the session, checkpoints and the bad-input lines.
+//! the run, the session, checkpoints, the run on in-process ranks and the bad-input
+//! lines.
 
 use grains_sim::session::Session;
 use grains_sim::{run, RunOptions, Source};
@@ -37,6 +38,30 @@ fn a_2d_granular_run_settles_and_resumes_bitwise() {
     let mut r = Session::resume(&dir.path().join("ck")).unwrap();
     r.run(None).unwrap();
     assert_eq!(format!("{:016x}", r.state_hash()), end);
+}
+
+#[path = "common/on_ranks.rs"]
+mod on_ranks;
+
+/// The granular law's pair histories (sliding and rolling springs) migrate with their
+/// particles and the pairs across a cut are computed on both sides: on 2 and 4
+/// in-process ranks (the code path of `mpirun`) the run ends with the serial hash,
+/// figures and history, every column.
+#[test]
+fn a_2d_granular_run_on_2_and_4_ranks_is_the_serial_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let serial = run::run(&source(&text()), RunOptions::new(dir.path().join("serial"))).unwrap();
+    for n in [2, 4] {
+        let out = dir.path().join(format!("ranks{n}"));
+        let done = on_ranks::on_ranks(&source(&text()), n, &out);
+        let leader = on_ranks::hashed(done, &serial.summary.state_hash, &format!("{n} ranks"));
+        assert_eq!(leader.summary.figures, serial.summary.figures, "{n} ranks");
+        assert_eq!(
+            on_ranks::columns_but(&out, |_| false),
+            on_ranks::columns_but(&dir.path().join("serial"), |_| false),
+            "{n} ranks"
+        );
+    }
 }
 
 /// The first line of the input error `edit` gives.

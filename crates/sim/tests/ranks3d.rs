@@ -68,16 +68,41 @@ fn is_the_serial_run(src: &Source, runs: &[(usize, Option<&str>)]) {
             history_but_builds(&serial_dir, false),
             "{what}"
         );
+        let counts = &leader.summary.counts;
+        let (Some(imbalance), Some(moves)) =
+            (counts.get("rank_imbalance"), counts.get("rebalances"))
+        else {
+            assert_eq!(
+                n, 1,
+                "{what}: no rank_imbalance or rebalances in the summary"
+            );
+            continue;
+        };
+        eprintln!("{what}: max/mean {imbalance} at the end, {moves} rebalances");
+        if grid == Some("[1, 1, 4]") {
+            // Cut along the fall: the cuts follow the column down (balance = 1.2, the
+            // default).
+            assert!(imbalance.as_f64().unwrap() <= 1.2, "{what}: {imbalance}");
+            assert!(moves.as_u64().unwrap() > 0, "{what}: {moves}");
+        }
     }
 }
 
 /// The settling column (Hertz–Mindlin with rolling and twisting resistance, the energy
-/// ledger on) on 1, 2 and 4 ranks (the automatic grids) and on a 2 × 2 × 1 grid.
+/// ledger on) on 1, 2 and 4 ranks (the automatic grids), on a 2 × 2 × 1 grid, and on a
+/// 1 × 1 × 4 grid cut along the fall, where the cut planes move with the spheres (load
+/// balancing in 3D).
 #[test]
 fn the_3d_settling_column_on_1_2_and_4_ranks_is_the_serial_run() {
     is_the_serial_run(
         &short_column(None),
-        &[(1, None), (2, None), (4, None), (4, Some("[2, 2, 1]"))],
+        &[
+            (1, None),
+            (2, None),
+            (4, None),
+            (4, Some("[2, 2, 1]")),
+            (4, Some("[1, 1, 4]")),
+        ],
     );
 }
 

@@ -276,9 +276,7 @@ impl Live for DemRun {
         let mut counts = serde_json::Map::new();
         counts.insert("neighbour_builds".into(), sim.state.contacts.builds.into());
         if let Some(part) = &sim.ranks {
-            // Of this segment of the run (a resumed run counts afresh).
-            counts.insert("rank_imbalance".into(), part.dec.imbalance().into());
-            counts.insert("rebalances".into(), part.dec.rebalances().into());
+            crate::ranks::count_balance(&mut counts, part.dec.imbalance(), part.dec.rebalances());
         }
         let costs = Costs {
             dt: sim.dt,

@@ -308,6 +308,9 @@ impl Live for Dem3Run {
             counts.insert("poured".into(), p.inserted().into());
             counts.insert("poured_mass_kg".into(), p.inserted_mass().into());
         }
+        if let Some(part) = &sim.ranks {
+            crate::ranks::count_balance(&mut counts, part.dec.imbalance(), part.dec.rebalances());
+        }
         let costs = Costs {
             dt: sim.dt,
             dt_critical: self.dt_critical,

@@ -134,3 +134,15 @@ pub fn finished_elsewhere<S: Simulation>(
         out: out.to_path_buf(),
     }
 }
+
+/// Puts a run's load balance into its summary's counts: the most particles on a rank
+/// over the mean at the end, and how many times the cut planes moved, both of this
+/// segment of the run (a resumed run counts afresh).
+pub fn count_balance(
+    counts: &mut serde_json::Map<String, serde_json::Value>,
+    imbalance: f64,
+    rebalances: u64,
+) {
+    counts.insert("rank_imbalance".into(), imbalance.into());
+    counts.insert("rebalances".into(), rebalances.into());
+}
