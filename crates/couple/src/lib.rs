@@ -9,8 +9,9 @@
 #![warn(missing_docs)]
 
 pub mod checkpoint;
+pub mod hits;
 pub mod penalty;
 pub mod step;
 
 pub use penalty::Coupling;
-pub use step::{coupled_step, coupled_step_with, Ring};
+pub use step::{coupled_step, coupled_step_by, coupled_step_with, Ring};

@@ -18,7 +18,9 @@
 //! it projects inside neither edge, touches the corner node itself: without that, grains
 //! sink onto the nodes that the gas pushes out between them.
 
+use crate::hits::{self, Hit};
 use glam::DVec2;
+use grains_dem::comm::{Exchange, Serial};
 use grains_dem::Particles;
 use grains_fem::Charge;
 use rayon::prelude::*;
@@ -60,8 +62,9 @@ pub struct Coupling {
     node_row: Vec<f64>,
     /// Scratch: the length of edge the grains on each node cover (m).
     cover: Vec<f64>,
-    /// Scratch: the contacts of this evaluation (particle, edge, contact, at a corner).
-    hits: Vec<(u32, u32, Touch, bool)>,
+    /// The contacts of the last evaluation, on every rank, in ascending (grain id,
+    /// edge).
+    hits: Vec<Hit>,
     /// Each boundary node's length of edge when the run started: half of each of its
     /// two edges (m).
     pub(crate) node_length: Vec<f64>,
@@ -175,6 +178,16 @@ impl Coupling {
     /// edges stretch a hundred-fold) keep the full K_pe, which the edge's length alone
     /// would have softened until a fast node drove through them.
     pub fn forces(&mut self, c: &mut Charge, p: &mut Particles) {
+        self.forces_on(c, p, &Serial);
+    }
+
+    /// [`Coupling::forces`] on one rank of several: `comm` tells which particles are
+    /// this rank's own (a ghost's contacts are its owner's) and gathers every rank's
+    /// contacts, so that every sum over them (the charge's nodal forces, the cover,
+    /// the energy, the frequency bound) is taken in one order of (grain id, edge) and
+    /// is the same on every rank ([`crate::hits`]); the penalty force goes to the
+    /// grains this rank owns.
+    pub fn forces_on(&mut self, c: &mut Charge, p: &mut Particles, comm: &dyn Exchange) {
         for f in c.nodes.f_ext.iter_mut() {
             *f = DVec2::ZERO;
         }
@@ -183,7 +196,7 @@ impl Coupling {
         self.node_row.resize(nodes, 0.0);
         self.cover.clear();
         self.cover.resize(nodes, 0.0);
-        let (mut row_owner, mut particle_row, mut particle_max) = (usize::MAX, 0.0f64, 0.0f64);
+        let (mut row_owner, mut particle_row, mut particle_max) = (None, 0.0f64, 0.0f64);
         self.contacts = 0;
         self.max_penetration_ratio = 0.0;
         self.deepest = None;
@@ -198,15 +211,19 @@ impl Coupling {
                 self.node_length[e[1] as usize] += 0.5 * l;
             }
         }
-        // Fine detection, and the length of edge each node's grains cover.
-        self.hits.clear();
+        // Fine detection of this rank's own grains.
+        let mut own = std::mem::take(&mut self.hits);
+        own.clear();
         for &(i, e) in &self.candidates {
             let (iu, eu) = (i as usize, e as usize);
+            if !comm.owns(iu) {
+                continue;
+            }
             let [na, nb] = c.boundary[eu];
             let (a, b) = (c.nodes.pos[na as usize], c.nodes.pos[nb as usize]);
             let (x, r) = (p.pos[iu], p.radius[iu]);
             let apex = c.nodes.pos[self.apex[eu] as usize];
-            let (hit, at_corner) = match touch(x, r, a, b, apex) {
+            let (touch, corner) = match touch(x, r, a, b, apex) {
                 Some(h) => (h, false),
                 None => {
                     // The edge's first node, where the edge before it ends.
@@ -217,13 +234,27 @@ impl Coupling {
                     }
                 }
             };
-            let d = 2.0 * r;
-            self.cover[na as usize] += (1.0 - hit.at) * d;
-            self.cover[nb as usize] += hit.at * d;
-            self.hits.push((i, e, hit, at_corner));
+            own.push(Hit {
+                id: p.id[iu],
+                edge: e,
+                touch,
+                corner,
+                radius: r,
+                mass: p.mass(iu),
+                pos: x,
+                local: Some(i),
+            });
         }
-        for &(i, e, hit, at_corner) in &self.hits {
-            let (i, e) = (i as usize, e as usize);
+        self.hits = hits::canonical(own, comm);
+        // The length of edge each node's grains cover.
+        for h in &self.hits {
+            let [na, nb] = c.boundary[h.edge as usize];
+            let d = 2.0 * h.radius;
+            self.cover[na as usize] += (1.0 - h.touch.at) * d;
+            self.cover[nb as usize] += h.touch.at * d;
+        }
+        for h in &self.hits {
+            let (hit, e) = (h.touch, h.edge as usize);
             let [na, nb] = c.boundary[e];
             let (na, nb) = (na as usize, nb as usize);
             let mut ratio: f64 = 1.0;
@@ -234,33 +265,36 @@ impl Coupling {
             }
             let k = self.stiffness * ratio;
             let f = k * hit.overlap * hit.normal;
-            p.force[i] += f;
+            if let Some(i) = h.local {
+                p.force[i as usize] += f;
+            }
             c.nodes.f_ext[na] -= (1.0 - hit.at) * f;
             c.nodes.f_ext[nb] -= hit.at * f;
             // The spring couples the particle (weight 1) and the two nodes (weights
             // 1 − at and at): add |K w_r w_c|/√(m_r m_c) to each of the three rows.
-            let (ma, mb, mp) = (c.nodes.mass[na], c.nodes.mass[nb], p.mass(i));
+            let (ma, mb, mp) = (c.nodes.mass[na], c.nodes.mass[nb], h.mass);
             let (wa, wb) = ((1.0 - hit.at).abs(), hit.at.abs());
             let (sa, sb, sp) = (wa / ma.sqrt(), wb / mb.sqrt(), 1.0 / mp.sqrt());
             let sum = sa + sb + sp;
             self.node_row[na] += k * sa * sum;
             self.node_row[nb] += k * sb * sum;
-            if i != row_owner {
+            if row_owner != Some(h.id) {
                 particle_max = particle_max.max(particle_row);
-                (row_owner, particle_row) = (i, 0.0);
+                (row_owner, particle_row) = (Some(h.id), 0.0);
             }
             particle_row += k * sp * sum;
             self.contacts += 1;
-            let r = p.radius[i];
+            let r = h.radius;
             if hit.overlap / r > self.max_penetration_ratio {
                 self.max_penetration_ratio = hit.overlap / r;
                 let (a, b) = (c.nodes.pos[na], c.nodes.pos[nb]);
                 let l0 = self.node_length[na] + self.node_length[nb];
                 self.deepest = Some(Deepest {
-                    particle: i,
+                    id: h.id,
+                    pos: h.pos,
                     edge: e,
                     touch: hit,
-                    corner: at_corner,
+                    corner: h.corner,
                     stretch: (b - a).length() / l0.max(f64::MIN_POSITIVE) * 2.0,
                     stiffness: k,
                 });
@@ -277,8 +311,10 @@ impl Coupling {
 /// The deepest contact of an evaluation: what a diagnostic needs to say where and why.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Deepest {
-    /// Particle index.
-    pub particle: usize,
+    /// The grain's global id.
+    pub id: u32,
+    /// The grain's centre (m).
+    pub pos: DVec2,
     /// Boundary edge index.
     pub edge: usize,
     /// The contact.

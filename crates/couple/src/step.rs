@@ -9,7 +9,7 @@
 
 use crate::penalty::Coupling;
 use glam::DVec2;
-use grains_dem::{step_with, Hooks, ListChange, Particles, Setup, State};
+use grains_dem::{step_on, Exchange, Hooks, ListChange, Particles, Serial, Setup, State};
 use grains_fem::integrate as fem_int;
 use grains_fem::stress::{stress_forces, Breakdown};
 use grains_fem::{Charge, FemSetup};
@@ -50,8 +50,10 @@ impl Ring {
     }
 }
 
-/// What rides on the DEM step: the charge's edge.
-struct Edge<'a> {
+/// What rides on the DEM step of a coupled step: the charge's edge (its
+/// [`Hooks`]: the grid box fitted to the particles, the candidates made again after a
+/// rebuild, the penalty forces).
+pub struct Edge<'a> {
     charge: &'a mut Charge,
     coupling: &'a mut Coupling,
     grid_box: &'a mut (DVec2, DVec2),
@@ -74,7 +76,11 @@ impl Hooks for Edge<'_> {
     }
 
     fn post_force(&mut self, p: &mut Particles) {
-        self.coupling.forces(self.charge, p);
+        self.post_force_on(p, &Serial);
+    }
+
+    fn post_force_on(&mut self, p: &mut Particles, comm: &dyn Exchange) {
+        self.coupling.forces_on(self.charge, p, comm);
         (self.outside)(p);
     }
 }
@@ -98,15 +104,36 @@ pub fn coupled_step_with(
     dt: f64,
     outside: &mut dyn FnMut(&mut Particles),
 ) -> Result<(), Breakdown> {
+    let (coupling, grid_box) = (&mut ring.coupling, &mut ring.grid_box);
+    let (setup, state) = (&ring.setup, &mut ring.state);
+    coupled_step_by(fem, charge, coupling, grid_box, dt, outside, |edge| {
+        step_on(setup, state, dt, edge, &mut Serial)
+    })
+}
+
+/// [`coupled_step_with`] with the DEM step taken by `dem`, which steps the particles
+/// (with the hooks it is handed, the charge's edge) however they are held: the whole
+/// ring here, or on one rank of several its part, through the decomposition's
+/// exchange. Every rank steps the whole charge alike: the penalty pass gives every
+/// rank the same nodal forces ([`Coupling::forces_on`]).
+pub fn coupled_step_by(
+    fem: &FemSetup,
+    charge: &mut Charge,
+    coupling: &mut Coupling,
+    grid_box: &mut (DVec2, DVec2),
+    dt: f64,
+    outside: &mut dyn FnMut(&mut Particles),
+    dem: impl FnOnce(&mut Edge<'_>),
+) -> Result<(), Breakdown> {
     fem_int::kick_drift(charge, dt);
     stress_forces(fem, charge, dt)?;
     let mut edge = Edge {
         charge,
-        coupling: &mut ring.coupling,
-        grid_box: &mut ring.grid_box,
+        coupling,
+        grid_box,
         outside,
     };
-    step_with(&ring.setup, &mut ring.state, dt, &mut edge);
+    dem(&mut edge);
     fem_int::kick(fem, charge, dt);
     Ok(())
 }

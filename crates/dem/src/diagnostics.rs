@@ -300,27 +300,38 @@ pub fn deepest_overlap(setup: &Setup, s: &State) -> Option<(u32, u32, f64)> {
 /// Mean contact stress of each particle (Pa per unit thickness): the elastic normal
 /// forces K_n·overlap of its pair contacts (through the neighbour list), plus `extra`
 /// (outside pushes, N/m), over its perimeter 2πr — the trace of Love's average over
-/// the disk.
+/// the disk. Each particle's forces are added in the order of its partners' ids (its
+/// row, then the reverse index: rule 1 of docs/parallel.md), so a particle's pressure
+/// is the same whatever the storage order, and on a rank of several for every
+/// particle it owns.
 pub fn contact_pressure(setup: &Setup, s: &State, extra: &[f64]) -> Vec<f64> {
     let p = &s.particles;
     let list = &s.contacts;
     let n = p.len();
     let mut sum: Vec<f64> = extra.to_vec();
     sum.resize(n, 0.0);
-    if list.row.len() == n + 1 {
-        for i in 0..n {
-            for e in list.row[i] as usize..list.row[i + 1] as usize {
-                let j = list.nbr[e] as usize;
-                let dist = setup.domain.min_image(p.pos[j] - p.pos[i]).length();
-                let overlap = p.radius[i] + p.radius[j] - dist;
-                if overlap > 0.0 {
-                    let f = setup
-                        .pairs
-                        .get(p.material[i] as usize, p.material[j] as usize)
-                        .kn
-                        * overlap;
-                    sum[i] += f;
-                    sum[j] += f;
+    let force = |e: usize| {
+        let (i, j) = (list.owner[e] as usize, list.nbr[e] as usize);
+        let dist = setup.domain.min_image(p.pos[j] - p.pos[i]).length();
+        let overlap = p.radius[i] + p.radius[j] - dist;
+        (overlap > 0.0).then(|| {
+            setup
+                .pairs
+                .get(p.material[i] as usize, p.material[j] as usize)
+                .kn
+                * overlap
+        })
+    };
+    let indexed = list.row.len() == n + 1
+        && list.rev_row.len() == n + 1
+        && list.owner.len() == list.nbr.len();
+    if indexed {
+        for (i, total) in sum.iter_mut().enumerate() {
+            let row = list.row[i] as usize..list.row[i + 1] as usize;
+            let rev = &list.rev_entry[list.rev_row[i] as usize..list.rev_row[i + 1] as usize];
+            for e in row.chain(rev.iter().map(|&e| e as usize)) {
+                if let Some(f) = force(e) {
+                    *total += f;
                 }
             }
         }

@@ -71,6 +71,15 @@ pub trait Hooks {
     /// After the pair forces and before walls and the closing kick: add outside forces
     /// to `particles.force` (and torques to `particles.torque`).
     fn post_force(&mut self, _particles: &mut Particles) {}
+
+    /// [`Hooks::post_force`] on one rank of several: `comm` reduces over the ranks and
+    /// tells which stored particles are this rank's own (a ghost's force is its owner's
+    /// to compute; the ghost takes it at the end of the step). Default:
+    /// [`Hooks::post_force`], which serves hooks whose forces need nothing of the
+    /// other ranks.
+    fn post_force_on(&mut self, particles: &mut Particles, _comm: &dyn Exchange) {
+        self.post_force(particles);
+    }
 }
 
 /// What the neighbour stage of a step did.
@@ -128,7 +137,7 @@ pub fn step_on<H: Hooks, C: Exchange>(
         c,
         |i| c.owns(i),
     );
-    hooks.post_force(&mut s.particles);
+    hooks.post_force_on(&mut s.particles, &*comm);
     let parts = match s.ledger.as_mut() {
         None => walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt, None),
         Some(l) => {

@@ -67,7 +67,10 @@ fn main() -> anyhow::Result<()> {
             reported += 1;
             let d = cp.deepest.unwrap();
             let p = &r.state.particles;
-            let i = d.particle;
+            let i =
+                p.id.iter()
+                    .position(|&k| k == d.id)
+                    .expect("the deepest grain");
             let [na, nb] = c.boundary[d.edge];
             let (na, nb) = (na as usize, nb as usize);
             let rel =

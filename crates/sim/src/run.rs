@@ -105,9 +105,12 @@ pub fn run_on(
         Scenario::Dem3(s) => {
             AnyRun::Dem3(Box::new(dem3d::run::open_on(&s, src, o, None, Some(link))?))
         }
+        Scenario::FemDem(s) => {
+            AnyRun::FemDem(Box::new(blast::run::open_on(&s, src, o, None, Some(link))?))
+        }
         other => {
             return Err(RunError::Input(format!(
-                "{}: engine = \"{}\" is not supported on several ranks yet (docs/parallel.md); allowed: DEM scenarios (2D and 3D), or 1 rank",
+                "{}: engine = \"{}\" is not supported on several ranks yet (docs/parallel.md); allowed: DEM scenarios (2D and 3D) and FEM–DEM rings, or 1 rank",
                 src.origin,
                 other.engine()
             )));
@@ -218,9 +221,15 @@ pub fn resume_on(
             let live = dem3d::run::open_on(&s, &src, o, Some(saved), Some(link))?;
             (AnyRun::Dem3(Box::new(live)), src)
         }
+        Scenario::FemDem(s) => {
+            let saved = blast::run::load_checkpoint(&src, dir)?;
+            let src = from_base(src, saved.base());
+            let live = blast::run::open_on(&s, &src, o, Some(saved), Some(link))?;
+            (AnyRun::FemDem(Box::new(live)), src)
+        }
         other => {
             return Err(RunError::Input(format!(
-                "{}: resume on several ranks is supported for DEM runs (2D and 3D), this one is engine = \"{}\"; allowed: 1 rank",
+                "{}: resume on several ranks is supported for DEM runs (2D and 3D) and FEM–DEM rings, this one is engine = \"{}\"; allowed: 1 rank",
                 dir.display(),
                 other.engine()
             )));

@@ -2,7 +2,7 @@
 //! fraction, energy, velocity) and the particles as VTP, grouped per time in one PVD.
 
 use super::Blast;
-use crate::dem::frames::particles_polydata;
+use crate::dem::frames::{particles_polydata, particles_polydata_of};
 use crate::frames::Framed;
 use grains_core::vtk::{cell_type, DataArray, UnstructuredGrid};
 use grains_fem::Charge;
@@ -11,10 +11,23 @@ use std::path::Path;
 
 impl Framed for Blast {
     fn write_frame(&self, dir: &Path, k: usize) -> io::Result<Vec<(&'static str, String)>> {
-        let mesh = format!("charge_{k:05}.vtu");
-        charge_grid(&self.charge).write(&dir.join(&mesh))?;
-        let mut parts = vec![("charge", mesh)];
-        if let Some(r) = &self.ring {
+        let leader = self.ranks.as_ref().is_none_or(|rp| rp.part.rank() == 0);
+        let mut parts = Vec::new();
+        if leader {
+            // The charge is the same on every rank: written once.
+            let mesh = format!("charge_{k:05}.vtu");
+            charge_grid(&self.charge).write(&dir.join(&mesh))?;
+            parts.push(("charge", mesh));
+        }
+        if let Some(rp) = &self.ranks {
+            // This rank's piece of the ring, and on rank 0 the index over every piece.
+            let part = &rp.part;
+            let poly = particles_polydata_of(rp.setup(), &part.local, &part.own());
+            let at = (part.rank(), part.ranks());
+            if let Some(name) = crate::ranks::write_piece(&poly, dir, k, at)? {
+                parts.push(("particles", name));
+            }
+        } else if let Some(r) = &self.ring {
             let name = format!("particles_{k:05}.vtp");
             particles_polydata(&r.setup, &r.state).write(&dir.join(&name))?;
             parts.push(("particles", name));

@@ -9,20 +9,23 @@ pub mod assemble;
 pub mod check;
 pub mod checkpoint;
 pub mod frames;
+pub mod grains;
 pub mod ledger;
 pub mod models;
 pub mod plots;
 pub mod probes;
+pub mod ranks;
 pub mod run;
 pub mod scenario;
 
 use crate::dispersal::{Dispersing, Frame};
-use crate::driver::{Clock, ParticleView, Simulation};
+use crate::driver::{Clock, FrameKind, ParticleView, Simulation};
 use crate::forces::Outside;
 use crate::output::Capabilities;
 use glam::DVec2;
 use grains_analysis::ring::{self as ring_analysis, Disks, RingFigures, Rule};
 use grains_couple::{coupled_step, coupled_step_with, Coupling, Ring};
+use grains_dem::Reduce;
 use grains_fem::diagnostics::{energies, fronts, Energies, Fronts};
 use grains_fem::{Charge, FemSetup};
 use std::borrow::Cow;
@@ -77,6 +80,9 @@ pub struct Blast {
     rule: Rule,
     sectors: usize,
     mean_d: f64,
+    /// This rank's part when the run is spread over ranks (`ring` is then rank 0's
+    /// view, whole after each gather).
+    pub ranks: Option<Box<ranks::RingPart>>,
 }
 
 /// One sample of a blast run.
@@ -134,29 +140,52 @@ impl Blast {
             fem,
             charge,
             ring,
+            ranks: None,
         }
     }
 
-    /// The ring's figures now (radii, band and spall), if there is a ring.
-    pub fn ring_figures(&self) -> Option<RingFigures> {
+    /// The charge's edge as the run steps it (on ranks, this rank's; its figures are
+    /// every rank's).
+    pub fn coupling(&self) -> Option<&Coupling> {
+        match &self.ranks {
+            Some(part) => Some(&part.coupling),
+            None => self.ring.as_ref().map(|r| &r.coupling),
+        }
+    }
+
+    /// Every grain of the ring in ascending id, over every rank.
+    fn grains(&self) -> Option<grains::Grains> {
         let r = self.ring.as_ref()?;
-        let p = &r.state.particles;
-        let pressure = grains_dem::diagnostics::contact_pressure(&r.setup, &r.state, &[]);
-        let mass: Vec<f64> = (0..p.len()).map(|i| p.mass(i)).collect();
+        Some(match &self.ranks {
+            Some(rp) => {
+                let dec = &rp.part.dec;
+                grains::gathered(rp.setup(), &rp.part.local, dec, &|i| dec.owns(i))
+            }
+            None => grains::gathered(&r.setup, &r.state, &grains_dem::Serial, &|_| true),
+        })
+    }
+
+    /// The ring's figures now (radii, band and spall), if there is a ring: added in
+    /// ascending id, the same on any rank count.
+    pub fn ring_figures(&self) -> Option<RingFigures> {
+        self.grains().map(|g| self.figures_of(&g))
+    }
+
+    fn figures_of(&self, g: &grains::Grains) -> RingFigures {
         let disks = Disks {
-            pos: &p.pos,
-            vel: &p.vel,
-            radius: &p.radius,
-            mass: &mass,
+            pos: &g.pos,
+            vel: &g.vel,
+            radius: &g.radius,
+            mass: &g.mass,
         };
-        Some(ring_analysis::measure(
+        ring_analysis::measure(
             &self.rule,
             self.sectors,
             disks,
             self.centre,
             self.mean_d,
-            &pressure,
-        ))
+            &g.pressure,
+        )
     }
 }
 
@@ -167,6 +196,16 @@ pub fn rule(a: &scenario::AnalysisSpec) -> Rule {
         radial_bin: a.radial_bin,
         sectors: a.sectors,
         stressed_pressure: a.stressed_pressure,
+    }
+}
+
+impl Blast {
+    /// The ring's own fingerprint: on ranks, over every rank at the last gather.
+    pub fn ring_hash(&self, r: &Ring) -> u64 {
+        match &self.ranks {
+            Some(rp) => rp.part.hash(),
+            None => grains_dem::diagnostics::state_hash(&r.state),
+        }
     }
 }
 
@@ -182,8 +221,8 @@ impl Simulation for Blast {
 
     fn advance(&mut self) -> Result<(), String> {
         let mut dt = (self.fem.safety * self.charge.dt_stable).min(self.dt_particles);
-        if let Some(r) = &self.ring {
-            dt = dt.min(self.coupling_safety * r.coupling.stable_dt());
+        if let Some(c) = self.coupling() {
+            dt = dt.min(self.coupling_safety * c.stable_dt());
         }
         if dt < self.dt_floor {
             return Err(format!(
@@ -195,9 +234,16 @@ impl Simulation for Blast {
         }
         self.dt_range = (self.dt_range.0.min(dt), self.dt_range.1.max(dt));
         self.dt = dt;
+        let time = self.charge.time + dt;
         match self.ring.as_mut() {
+            Some(r) if self.ranks.is_some() => {
+                let rp = self.ranks.as_mut().expect("on ranks");
+                let outside = &mut self.outside;
+                let fem = (&self.fem, &mut self.charge);
+                rp.advance(fem, dt, &mut |p| outside.apply(time, p), &mut r.state)
+            }
             Some(r) if !self.outside.is_empty() => {
-                let (outside, time) = (&mut self.outside, self.charge.time + dt);
+                let outside = &mut self.outside;
                 coupled_step_with(&self.fem, &mut self.charge, r, dt, &mut |p| {
                     outside.apply(time, p)
                 })
@@ -206,18 +252,16 @@ impl Simulation for Blast {
             None => grains_fem::step(&self.fem, &mut self.charge, dt),
         }
         .map_err(|b| b.to_string())?;
-        if let Some(r) = &self.ring {
-            let pen = r.coupling.max_penetration_ratio;
+        if let Some(pen) = self.coupling().map(|c| c.max_penetration_ratio) {
             self.max_penetration = self.max_penetration.max(pen);
             if pen > RUNAWAY_PENETRATION {
-                let at = r.coupling.deepest.map_or(String::new(), |d| {
-                    let p = &r.state.particles;
-                    let x = p.pos[d.particle];
+                let c = self.coupling().expect("a ring");
+                let at = c.deepest.map_or(String::new(), |d| {
                     format!(
                         " (particle {} at ({:.4e}, {:.4e}) m, on {} of a boundary edge {:.1} times its initial length)",
-                        p.id[d.particle],
-                        x.x,
-                        x.y,
+                        d.id,
+                        d.pos.x,
+                        d.pos.y,
                         if d.corner { "the corner node" } else { "the span" },
                         d.stretch
                     )
@@ -232,28 +276,26 @@ impl Simulation for Blast {
     }
 
     fn sample(&mut self) -> BlastSample {
+        let grains = self.grains();
+        let ledger = self.ring.as_ref().is_some_and(|r| r.state.ledger.is_some());
         BlastSample {
             energies: energies(&self.fem, &self.charge),
             fronts: fronts(&self.charge),
-            ring: self.ring_figures(),
-            rotational: self
-                .ring
-                .as_ref()
-                .filter(|r| r.state.ledger.is_some())
-                .map(|r| {
-                    let p = &r.state.particles;
-                    (0..p.len())
-                        .map(|i| 0.5 * p.omega[i] * p.omega[i] / p.inv_inertia[i])
-                        .sum()
-                }),
+            ring: grains.as_ref().map(|g| self.figures_of(g)),
+            rotational: grains.filter(|_| ledger).map(|g| g.rotational),
         }
     }
 
     fn unstable(&self, _s: &BlastSample) -> Option<String> {
-        let r = self.ring.as_ref()?;
-        let p = &r.state.particles;
-        let finite = p.pos.iter().chain(&p.vel).all(|v| v.is_finite());
-        (!finite).then(|| "a particle position or velocity is not finite".to_string())
+        let finite = |s: &grains_dem::State| {
+            let p = &s.particles;
+            let finite = p.pos.iter().chain(&p.vel).all(|v| v.is_finite());
+            (!finite).then(|| "a particle position or velocity is not finite".to_string())
+        };
+        match &self.ranks {
+            Some(rp) => rp.part.first(finite),
+            None => finite(&self.ring.as_ref()?.state),
+        }
     }
 
     fn particles(&self) -> ParticleView<'_> {
@@ -282,13 +324,41 @@ impl Simulation for Blast {
         let mut h = grains_core::hash::Fnv1a::default();
         h.word(grains_fem::diagnostics::state_hash(&self.charge));
         if let Some(r) = &self.ring {
-            h.word(grains_dem::diagnostics::state_hash(&r.state));
+            h.word(self.ring_hash(r));
         }
         h.finish()
     }
 
     fn checkpoint(&self) -> Option<Vec<u8>> {
+        // On several ranks rank 0 writes the ring it has just gathered (in the order a
+        // serial run would hold it), so the file is the same on any rank count.
+        if self.ranks.as_ref().is_some_and(|p| p.part.rank() != 0) {
+            return None;
+        }
         Some(self.snapshot())
+    }
+
+    fn gather(&mut self) {
+        if let (Some(rp), Some(view)) = (self.ranks.as_mut(), self.ring.as_mut()) {
+            rp.gather(&self.charge, view);
+        }
+    }
+
+    fn frame_reads_whole(&self, kind: FrameKind) -> bool {
+        // Each rank writes its piece of a regular frame; the snapshot maps are drawn
+        // from every particle on rank 0.
+        self.ranks.is_none() || kind != FrameKind::Regular
+    }
+
+    fn agree(&self, flag: bool) -> bool {
+        match &self.ranks {
+            Some(rp) => rp.part.dec.any(flag),
+            None => flag,
+        }
+    }
+
+    fn ranks(&self) -> usize {
+        self.ranks.as_ref().map_or(1, |rp| rp.part.ranks())
     }
 }
 

@@ -2,23 +2,25 @@
 //! goes on exactly as if it had never stopped.
 
 use super::assemble::{assemble, assemble_with, on_demand, Unmade};
+use super::ranks::RingPart;
 use super::scenario::Scenario;
 use super::{ledger, models, plots, probes, Blast, BlastSample, CAPABILITIES};
 use crate::checkpoint;
+use crate::dem::ranks::{Link, ParallelSpec};
 use crate::dispersal::DispersalObserver;
 use crate::driver::{
-    discount, restore_observers, Counters, Observer, Outcome, Report, Status, Stepper,
+    agreed, discount, restore_observers, Observer, Outcome, Report, Status, Stepper,
 };
 use crate::frames::FrameRecorder;
 use crate::frames::{Mapped, Snapshots};
 use crate::history::{HistoryRecorder, Recorded};
 use crate::packings::Cached;
-use crate::run::{
-    finish, fresh_out, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions,
-};
+use crate::ranks::not_on_ranks;
+use crate::run::{finish, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions};
 use crate::source::Source;
 use grains_core::history::History;
 use grains_core::plot::{time_label, Outline, ParticleMap};
+use grains_dem::Reduce;
 use std::path::{Path, PathBuf};
 
 impl Recorded for Blast {
@@ -86,12 +88,12 @@ impl Recorded for Blast {
             f.boundary_radius,
             f.boundary_speed,
         ];
-        if let (Some(r), Some(g)) = (&self.ring, &s.ring) {
+        if let (Some(r), Some(c), Some(g)) = (&self.ring, self.coupling(), &s.ring) {
             row.extend([
                 g.kinetic,
-                r.coupling.energy,
-                r.coupling.contacts as f64,
-                r.coupling.max_penetration_ratio,
+                c.energy,
+                c.contacts as f64,
+                c.max_penetration_ratio,
                 g.inner,
                 g.outer,
                 g.pressure_front,
@@ -147,19 +149,18 @@ pub struct BlastRun {
 struct Watchers {
     history: HistoryRecorder,
     frames: FrameRecorder,
-    snaps: Snapshots,
-    last: FinalMap,
+    /// The maps, on rank 0 (or the only rank).
+    maps: Option<(Snapshots, FinalMap)>,
     dispersal: Option<DispersalObserver>,
 }
 
 impl Watchers {
     fn list(&mut self) -> Vec<&mut dyn Observer<Blast>> {
-        let mut o: Vec<&mut dyn Observer<Blast>> = vec![
-            &mut self.history,
-            &mut self.frames,
-            &mut self.snaps,
-            &mut self.last,
-        ];
+        let mut o: Vec<&mut dyn Observer<Blast>> = vec![&mut self.history, &mut self.frames];
+        if let Some((snaps, last)) = self.maps.as_mut() {
+            o.push(snaps);
+            o.push(last);
+        }
         if let Some(d) = self.dispersal.as_mut() {
             o.push(d);
         }
@@ -175,21 +176,71 @@ pub fn open(
     opts: &mut RunOptions,
     resume: Option<Resume>,
 ) -> Result<BlastRun, RunError> {
+    open_on(s, src, opts, resume, None)
+}
+
+/// Why `s` cannot run on several ranks yet, as one line naming what and what is
+/// allowed; `None` when it can.
+pub fn unsupported(s: &Scenario) -> Option<String> {
+    if s.ring.is_none() {
+        return Some(not_on_ranks(
+            "a charge without [ring]",
+            "a [ring], or 1 rank",
+        ));
+    }
+    if s.analysis.dispersal.is_some() {
+        // Its fields read every grain at every sample.
+        return Some(not_on_ranks(
+            "[analysis.dispersal]",
+            "no [analysis.dispersal] table (analyse the run afterwards: grains analyze RUN_DIR), or 1 rank",
+        ));
+    }
+    None
+}
+
+/// [`open`] on one of several ranks, `link` carrying the messages (`None`: one rank):
+/// every rank assembles the start and steps the whole charge and its box of the ring;
+/// rank 0 writes every output but the other ranks' pieces of the frames.
+pub fn open_on(
+    s: &Scenario,
+    src: &Source,
+    opts: &mut RunOptions,
+    resume: Option<Resume>,
+    link: Option<Link>,
+) -> Result<BlastRun, RunError> {
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
     let input = |e: String| RunError::Input(format!("{}: {e}", src.origin));
-    if let Some(od) = on_demand(s, &src.base).map_err(input)? {
-        if od.state() != Cached::Ready {
+    let ranks = link.as_ref().map_or(1, |l| l.ranks());
+    let dims = crate::dem::ranks::grid(s.parallel.as_ref(), ranks).map_err(input)?;
+    let balance = ParallelSpec::balance_of(s.parallel.as_ref()).map_err(input)?;
+    if let Some(why) = link.as_ref().and(unsupported(s)) {
+        return Err(input(why));
+    }
+    let leader = link.as_ref().is_none_or(|l| l.rank() == 0);
+    let made = match on_demand(s, &src.base).map_err(input)? {
+        // One rank makes a packing the others then read.
+        Some(od) if od.state() != Cached::Ready && leader => {
             // Every other key is checked before the packing is made, which may take
             // minutes: with the disks the spec will make standing in.
-            assemble_with(s, &src.base, Unmade::Preview).map_err(input)?;
+            assemble_with(s, &src.base, Unmade::Preview)
+                .map_err(input)
+                .and_then(|_| od.ensure(&mut *opts.progress).map(drop).map_err(input))
         }
-        od.ensure(&mut *opts.progress).map_err(input)?;
+        _ => Ok(()),
+    };
+    if let Some(l) = &link {
+        if l.any(made.is_err()) {
+            return Err(made
+                .err()
+                .unwrap_or_else(|| input("rank 0 could not make the ring's packing".to_string())));
+        }
     }
-    let a = assemble(s, &src.base).map_err(|e| RunError::Input(format!("{}: {e}", src.origin)))?;
+    made?;
+    let a = assemble(s, &src.base).map_err(input)?;
     let charge_mass = a.charge_mass;
     let out = opts.out.clone();
     opts.progress.announce(&format!(
-        "{}{} (fem_dem) — charge {} ({} elements), {} particles, dt ≈ {:.3e} s, {} threads → {}",
+        "{}{} (fem_dem) — charge {} ({} elements), {} particles, dt ≈ {:.3e} s, {} threads{} → {}",
         if resume.is_some() { "resuming " } else { "" },
         s.name,
         a.fem.explosive.name,
@@ -197,6 +248,11 @@ pub fn open(
         a.ring.as_ref().map_or(0, |r| r.particles.len()),
         super::check::dt_initial(s, &a),
         opts.threads,
+        if ranks > 1 {
+            format!(" on {ranks} ranks")
+        } else {
+            String::new()
+        },
         out.display()
     ));
     let steps = (s.run.duration / super::check::dt_initial(s, &a)).ceil() as u64;
@@ -206,65 +262,66 @@ pub fn open(
         opts.progress.announce(&format!("warning: {w}"));
     }
     let mut sim = Blast::new(s, a);
-    let (history, frames, counters) = match &resume {
-        None => {
-            fresh_out(&out, &src.text)?;
-            let history = HistoryRecorder::create(&out, &mut sim)?;
-            let frames = FrameRecorder::create(&out, &sim).map_err(anyhow::Error::from)?;
-            (history, frames, None)
-        }
-        Some(r) => {
-            sim.restore(&r.state).map_err(|e| {
-                RunError::Input(format!("{}: {e}", out.join(checkpoint::FILE).display()))
-            })?;
-            let c = r.progress.counters.clone();
-            let history = HistoryRecorder::reopen(&out, &sim, sim.charge.step)?;
-            let frames = FrameRecorder::resume(&out, &sim, sim.charge.time, c.frames)
-                .map_err(anyhow::Error::from)?;
-            (history, frames, Some(c))
-        }
-    };
-    let snaps = Snapshots {
-        dir: out.join("plots"),
-    };
-    let last = FinalMap {
-        dir: out.join("plots"),
-    };
-    std::fs::create_dir_all(&snaps.dir)
-        .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", snaps.dir.display()))?;
+    if let Some(r) = &resume {
+        sim.restore(&r.state).map_err(|e| {
+            RunError::Input(format!("{}: {e}", out.join(checkpoint::FILE).display()))
+        })?;
+    }
+    if let (Some(link), Some(ring)) = (link, sim.ring.as_ref()) {
+        let part = RingPart::new(link, (ring, &sim.charge), dims, balance).map_err(input)?;
+        sim.ranks = Some(Box::new(part));
+    }
+    let spread = sim.ranks.is_some();
     let mut plan = s.output.plan_by_time(&CAPABILITIES, s.run.duration);
     // On a resumed run the analysis covers the new segment; `grains analyze RUN_DIR`
     // covers every frame.
-    let dispersal = match (&s.analysis.dispersal, &sim.ring) {
-        (Some(d), Some(_)) => {
-            // A frame at each chosen time, so that the maps there can be made again
-            // from the frames.
-            plan.snapshots.extend(&d.times);
-            plan.snapshots.sort_by(f64::total_cmp);
-            plan.snapshots.dedup();
-            let centre = d.centre.map_or(sim.centre, glam::DVec2::from);
-            Some(DispersalObserver::new(
-                &s.name,
-                d,
-                centre,
-                s.run.duration,
-                &out,
-            ))
-        }
-        _ => None,
+    let dispersal = s.analysis.dispersal.as_ref().filter(|_| sim.ring.is_some());
+    if let Some(d) = dispersal {
+        // A frame at each chosen time, so that the maps there can be made again from
+        // the frames.
+        plan.snapshots.extend(&d.times);
+        plan.snapshots.sort_by(f64::total_cmp);
+        plan.snapshots.dedup();
+    }
+    let (history, frames, counters) = crate::ranks::recorders(
+        &mut sim,
+        (leader, spread),
+        (&out, &src.text),
+        &plan,
+        resume.as_ref().map(|r| &r.progress.counters),
+    )?;
+    let maps = if leader {
+        let snaps = Snapshots {
+            dir: out.join("plots"),
+        };
+        let last = FinalMap {
+            dir: out.join("plots"),
+        };
+        let made = std::fs::create_dir_all(&snaps.dir)
+            .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", snaps.dir.display()));
+        agreed(&sim, made)?;
+        Some((snaps, last))
+    } else {
+        agreed(&sim, Ok::<(), anyhow::Error>(()))?;
+        None
     };
+    let dispersal = dispersal.map(|d| {
+        let centre = d.centre.map_or(sim.centre, glam::DVec2::from);
+        DispersalObserver::new(&s.name, d, centre, s.run.duration, &out)
+    });
     let mut watchers = Watchers {
         history,
         frames,
-        snaps,
-        last,
+        maps,
         dispersal,
     };
     let mut observers = watchers.list();
     if let Some(r) = &resume {
-        restore_observers(&mut observers, &r.progress.observers)?;
+        agreed(
+            &sim,
+            restore_observers(&mut observers, &r.progress.observers),
+        )?;
     }
-    let counters = counters.unwrap_or_else(|| Counters::fresh(&plan));
     let stepper = Stepper::start(&sim, &mut observers, plan, counters)?;
     drop(observers);
     Ok(BlastRun {
@@ -290,12 +347,30 @@ impl Live for BlastRun {
 
     fn conclude(&mut self, outcome: Outcome, threads: usize) -> Result<Finished, RunError> {
         let (sim, s, out) = (&self.sim, &*self.scenario, &self.out);
+        let dt_critical = match &sim.ring {
+            Some(_) => sim.dt_particles,
+            None => sim.charge.dt_stable,
+        };
+        if self.watchers.maps.is_none() {
+            // Another rank than 0: its part is done, rank 0 writes.
+            let costs = Costs {
+                dt: sim.dt,
+                dt_critical,
+                threads,
+                frames: 0,
+            };
+            let at = (s.name.as_str(), out.as_path());
+            return Ok(crate::ranks::finished_elsewhere(at, sim, outcome, costs));
+        }
         let history = &self.watchers.history;
         let dispersal = &self.watchers.dispersal;
         let charge_mass = self.charge_mass;
+        // Added in ascending id: the same whatever order the ring is held in.
         let ring_mass: Option<f64> = sim.ring.as_ref().map(|r| {
             let p = &r.state.particles;
-            (0..p.len()).map(|i| p.mass(i)).sum()
+            let mut by_id: Vec<(u32, f64)> = (0..p.len()).map(|i| (p.id[i], p.mass(i))).collect();
+            by_id.sort_unstable_by_key(|&(id, _)| id);
+            by_id.into_iter().map(|(_, m)| m).sum()
         });
         let ring_models = ring_mass.and_then(|mass| models::figures(s, mass, sim.charge.time));
         let ctx = probes::Context {
@@ -363,17 +438,18 @@ impl Live for BlastRun {
                 .map_or(0, |r| r.state.contacts.builds)
                 .into(),
         );
+        if let Some(rp) = &sim.ranks {
+            // Of this segment of the run (a resumed run counts afresh).
+            counts.insert("rank_imbalance".into(), rp.part.dec.imbalance().into());
+            counts.insert("rebalances".into(), rp.part.dec.rebalances().into());
+        }
         if let Some(r) = &sim.ring {
             // The particles' own fingerprint, comparable with a DEM run's.
             counts.insert(
                 "ring_state_hash".into(),
-                format!("{:016x}", grains_dem::diagnostics::state_hash(&r.state)).into(),
+                format!("{:016x}", sim.ring_hash(r)).into(),
             );
         }
-        let dt_critical = match &sim.ring {
-            Some(_) => sim.dt_particles,
-            None => sim.charge.dt_stable,
-        };
         let costs = Costs {
             dt: sim.dt,
             dt_critical,

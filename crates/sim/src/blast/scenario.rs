@@ -41,6 +41,10 @@ pub struct Scenario {
     /// Checks written into summary.json.
     #[serde(rename = "check", default)]
     pub checks: Vec<CheckSpec>,
+    /// `[parallel]`: how the ring is spread over the ranks of a run under `mpirun`
+    /// (the charge is on every rank).
+    #[serde(default)]
+    pub parallel: Option<crate::dem::ranks::ParallelSpec>,
 }
 
 /// `[charge]`: a circular charge.

@@ -12,7 +12,7 @@ use super::engine::comm::Post;
 use super::engine::decomp::{Decomposed, GridError};
 use super::engine::diagnostics::Diagnostics;
 use super::engine::math::DIM;
-use super::engine::{step_on, NoHooks, Reduce, Setup, State};
+use super::engine::{step_on, Hooks, NoHooks, Reduce, Setup, State};
 use crate::ranks::Link;
 use serde::{Deserialize, Serialize};
 
@@ -141,7 +141,19 @@ impl Part {
     /// takes what every rank knows: time, step, build count, wall loads and poses, and
     /// the energy ledger (summed in id order over the ranks: the serial one).
     pub fn advance(&mut self, setup: &Setup, dt: f64, view: &mut State) {
-        step_on(setup, &mut self.local, dt, &mut NoHooks, &mut self.dec);
+        self.advance_with(setup, dt, &mut NoHooks, view);
+    }
+
+    /// [`Part::advance`] with outside forces from `hooks` (a coupled charge's edge),
+    /// which are handed the decomposition's reductions and ownership.
+    pub fn advance_with<H: Hooks>(
+        &mut self,
+        setup: &Setup,
+        dt: f64,
+        hooks: &mut H,
+        view: &mut State,
+    ) {
+        step_on(setup, &mut self.local, dt, hooks, &mut self.dec);
         let s = &self.local;
         view.time = s.time;
         view.step = s.step;
