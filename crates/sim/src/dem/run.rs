@@ -279,6 +279,7 @@ impl Live for DemRun {
             // Of this segment of the run (a resumed run counts afresh).
             counts.insert("rank_imbalance".into(), part.dec.imbalance().into());
             counts.insert("rebalances".into(), part.dec.rebalances().into());
+            part.comm().insert_into(&mut counts);
         }
         let costs = Costs {
             dt: sim.dt,
