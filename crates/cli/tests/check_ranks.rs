@@ -47,10 +47,24 @@ fn the_column_spread_over_1_2_and_4_ranks() {
             let m = r["memory_bytes_estimate"].as_u64().unwrap();
             assert_eq!(per(m, held), whole, "{r}");
         }
+        if n == 2 {
+            // One neighbour each (a 1 x 2 grid, y not periodic): what a rank sends per
+            // step is the other's ghosts, 8 words each (docs/parallel.md).
+            for (r, q) in [(0, 1), (1, 0)] {
+                let sent = ranks[r]["ghost_bytes_per_step"].as_u64().unwrap();
+                assert_eq!(sent, 64 * ranks[q]["ghosts"].as_u64().unwrap(), "{s}");
+            }
+        }
     }
     let o = grains(&["check", column.to_str().unwrap(), "--ranks", "2"]);
     assert_eq!(o.code, 0, "{}", o.stderr);
-    for want in ["on a 1 x 2 grid", "rank 1", "per owned", "memory ≈"] {
+    for want in [
+        "on a 1 x 2 grid",
+        "rank 1",
+        "per owned",
+        "memory ≈",
+        "ghost refresh",
+    ] {
         assert!(o.stdout.contains(want), "{want}: {}", o.stdout);
     }
 }

@@ -42,6 +42,12 @@ pub trait Reduce {
         words
     }
 
+    /// [`Reduce::gather`] of per-particle rows (the energy ledger's), apart so that a
+    /// transport can count what grows with the particles apart from the rest.
+    fn gather_rows(&self, words: Vec<u64>) -> Vec<u64> {
+        self.gather(words)
+    }
+
     /// Element-wise minimum over the ranks.
     fn min(&self, values: &mut [f64]) {
         for v in values.iter_mut() {

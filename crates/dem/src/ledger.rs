@@ -352,7 +352,7 @@ pub(crate) fn in_id_order<R: crate::comm::Reduce + ?Sized>(
         words.push(id[i] as u64);
         words.extend(r.words().map(f64::to_bits));
     }
-    let words = reduce.gather(words);
+    let words = reduce.gather_rows(words);
     let mut records: Vec<&[u64]> = words.chunks_exact(1 + WORDS).collect();
     records.sort_unstable_by_key(|r| r[0]);
     for r in records {

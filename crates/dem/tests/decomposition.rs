@@ -306,7 +306,7 @@ fn a_settled_bed_keeps_its_contacts_and_springs_through_migration() {
 #[test]
 fn a_dense_bed_has_the_serial_hash_on_1_2_and_4_ranks_and_threads() {
     let (set, mut p) = peer::bed(2000, 40);
-    squeeze(&mut p, 40);
+    peer::squeeze(&mut p, 40);
     let whole = State::new(&set, p);
     let (dt, steps, every) = (5e-4, 1500, 250);
     let mut serial = whole.clone();
@@ -379,7 +379,7 @@ fn a_granular_bed_carries_its_histories_across_ranks_bit_for_bit() {
     });
     law.twisting = true;
     set.granular = Some(PairTable::from_fn(1, |_, _| law));
-    squeeze(&mut p, 20);
+    peer::squeeze(&mut p, 20);
     let whole = State::new(&set, p);
     let (dt, steps, every) = (5e-4, 1000, 250);
     let mut serial = whole.clone();
@@ -409,16 +409,6 @@ fn a_granular_bed_carries_its_histories_across_ranks_bit_for_bit() {
     });
 }
 
-/// Sets the disks on a triangular lattice `nx` wide with a spacing of 0.95 (less than
-/// most diameters: each overlaps up to six neighbours).
-fn squeeze(p: &mut Particles, nx: usize) {
-    for (k, x) in p.pos.iter_mut().enumerate() {
-        let (row, col) = ((k / nx) as f64, (k % nx) as f64);
-        let shift = 0.5 * ((k / nx) % 2) as f64;
-        *x = 0.95 * DVec2::new(col + 0.5 + shift, 0.866 * row + 0.6);
-    }
-}
-
 /// The energy ledger of a squeezed bed springing apart: each pair's terms are counted by
 /// the rank that owns its lower id and added in id order, so on 1 × 1, 2 × 1, 1 × 2 and
 /// 2 × 2 ranks at 1 and 2 threads the ledger is the serial one bit for bit (with the
@@ -426,7 +416,7 @@ fn squeeze(p: &mut Particles, nx: usize) {
 #[test]
 fn the_energy_ledger_is_the_serial_one_on_any_grid() {
     let (set, mut p) = peer::bed(600, 20);
-    squeeze(&mut p, 20);
+    peer::squeeze(&mut p, 20);
     let mut whole = State::new(&set, p);
     whole.ledger = Some(grains_dem::EnergyLedger::starting(&set, &whole).unwrap());
     let (dt, steps, every) = (5e-4, 1000, 250);

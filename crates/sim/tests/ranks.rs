@@ -55,6 +55,32 @@ fn a_2d_dem_run_on_2_and_4_ranks_is_the_serial_run() {
         eprintln!("{n} ranks: max/mean {imbalance} at the end, {moves} rebalances");
         assert!(imbalance.as_f64().unwrap() <= 1.2, "{n} ranks: {imbalance}");
         assert!(moves.as_u64().unwrap() > 0, "{n} ranks: {moves}");
+        // What the ranks sent (docs/parallel.md, "Past this machine"); a serial
+        // summary has none of it.
+        let comm = &counts["comm"];
+        assert_eq!(comm["steps"], serial.summary.steps, "{n} ranks: {comm}");
+        assert_eq!(comm["owned"], 400, "{n} ranks: {comm}");
+        let fraction = counts["ghost_fraction"].as_f64().unwrap();
+        let ghosts = comm["ghosts"].as_f64().unwrap();
+        assert_eq!(fraction, ghosts / 400.0, "{n} ranks");
+        let per = &comm["per_rank_and_step"];
+        let ghost_bytes = per["ghosts"]["bytes_sent"].as_f64().unwrap();
+        // Each ghost's position, velocity, spin, force and torque: 8 words, at least
+        // one ghost a step.
+        assert!(ghost_bytes >= 64.0, "{n} ranks: {comm}");
+        assert_eq!(per["ghosts"]["bytes_received"], per["ghosts"]["bytes_sent"]);
+        assert_eq!(
+            per["ledger"]["collectives"], 0.0,
+            "2D DEM runs keep no ledger"
+        );
+        let stepping: f64 = ["ghosts", "rebuild", "reductions", "ledger"]
+            .iter()
+            .map(|k| per[k]["bytes_sent"].as_f64().unwrap())
+            .sum();
+        assert_eq!(counts["comm_bytes_per_step"].as_f64().unwrap(), stepping);
+        for key in ["comm", "ghost_fraction", "comm_bytes_per_step"] {
+            assert!(!serial.summary.counts.contains_key(key), "{key}");
+        }
         assert_eq!(leader.summary.particles, serial.summary.particles);
         assert_eq!(leader.summary.frames, serial.summary.frames);
         assert_eq!(leader.summary.figures, serial.summary.figures, "{n} ranks");

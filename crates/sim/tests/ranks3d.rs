@@ -61,6 +61,23 @@ fn is_the_serial_run(src: &Source, runs: &[(usize, Option<&str>)]) {
         assert_eq!(leader.status, serial.status, "{what}");
         assert_eq!(leader.summary.frames, serial.summary.frames, "{what}");
         assert_eq!(leader.summary.figures, serial.summary.figures, "{what}");
+        // The energy ledger's gathers, when it is kept: two a step, 1 + 17 words per
+        // owned sphere each; none on one rank (docs/parallel.md, "Past this machine").
+        let ledger = &leader.summary.counts["comm"]["per_rank_and_step"]["ledger"];
+        let calls = ledger["collectives"].as_f64().unwrap();
+        let kept = calls == 2.0 && n > 1;
+        assert!(
+            calls == 0.0 || kept,
+            "{what}: {calls} ledger gathers a step"
+        );
+        if calls > 0.0 {
+            let want = 2.0 * 144.0 * serial.summary.particles as f64 / n as f64;
+            let sent = ledger["bytes_sent"].as_f64().unwrap();
+            assert!(
+                (sent - want).abs() <= 1e-9 * want,
+                "{what}: {sent} B, not {want}"
+            );
+        }
         // One rank of `mpirun -np 1` writes its frames as pieces too.
         assert_eq!(files(&out), as_pieces(files(&serial_dir), n), "{what}");
         assert_eq!(

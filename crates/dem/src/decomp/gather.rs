@@ -4,6 +4,7 @@
 //! id order and rebuilds the list over the whole domain, which carries the springs over
 //! as a serial rebuild does.
 
+use super::traffic::Stage;
 use super::words::{self, Reader};
 use super::{carried_of, install, Decomposed};
 use crate::comm::{Post, Reduce};
@@ -27,7 +28,7 @@ impl<C: Reduce + Post> Decomposed<C> {
             words::put_particle(&mut out, p, i);
             words::put_history(&mut out, &rows[i]);
         }
-        let all = self.comm.gather(out);
+        let all = self.during(Stage::Other, || self.comm.gather(out));
         if self.comm.rank() != 0 {
             return None;
         }

@@ -26,6 +26,7 @@ pub mod balance;
 mod gather;
 pub mod grid;
 pub mod local;
+pub mod traffic;
 pub mod words;
 
 pub use grid::{GridError, RankGrid};
@@ -39,11 +40,13 @@ use crate::setup::Setup;
 use crate::step::State;
 use crate::CHUNK;
 use std::collections::HashMap;
+use traffic::{Counted, Stage, Totals, Traffic};
 use words::{Carried, Reader};
 
 /// One rank of a decomposed run.
 pub struct Decomposed<C> {
-    comm: C,
+    /// The transport, every message counted by stage.
+    comm: Counted<C>,
     grid: RankGrid,
     /// Ghosts are the particles within this distance of a rank's box (m).
     halo: f64,
@@ -89,7 +92,7 @@ impl<C: Reduce + Post> Decomposed<C> {
         let neighbours = grid.neighbours(comm.rank());
         let none = vec![Vec::new(); neighbours.len()];
         Ok(Decomposed {
-            comm,
+            comm: Counted::new(comm),
             grid,
             halo,
             neighbours,
@@ -125,7 +128,63 @@ impl<C: Reduce + Post> Decomposed<C> {
 
     /// The transport, back.
     pub fn into_inner(self) -> C {
-        self.comm
+        self.comm.into_inner()
+    }
+
+    /// What this rank has sent and received so far, by stage ([`traffic`]).
+    pub fn traffic(&self) -> Traffic {
+        self.comm.traffic()
+    }
+
+    /// Neighbouring ranks (each sent ghosts every step).
+    pub fn neighbours(&self) -> usize {
+        self.neighbours.len()
+    }
+
+    /// Ghosts this rank holds since the last rebuild (copies of its neighbours'
+    /// particles; one neighbour on both sides of a periodic axis sends each once).
+    pub fn ghosts(&self) -> usize {
+        self.recv_ids.iter().map(Vec::len).sum()
+    }
+
+    /// Bytes this rank sends in each step's ghost refresh until the next rebuild:
+    /// [`words::MOTION_WORDS`] words for each particle a neighbour holds as a ghost.
+    pub fn ghost_bytes_per_step(&self) -> u64 {
+        let sent: usize = self.send_ids.iter().map(Vec::len).sum();
+        (8 * words::MOTION_WORDS * sent) as u64
+    }
+
+    /// Every rank's traffic, particles and ghosts together, on every rank. A collective
+    /// (every rank calls it at the same point), counted under [`Stage::Other`].
+    pub fn traffic_over_ranks(&self, s: &State) -> Totals {
+        self.during(Stage::Other, || {
+            let mine = self.traffic();
+            let mut w = mine.words();
+            w.push(self.owned(&s.particles) as u64);
+            w.push(self.ghosts() as u64);
+            w.push(1);
+            self.comm.sum_u64(&mut w);
+            let step = mine.stepping();
+            let mut most = [step.sent as f64, step.received as f64];
+            self.comm.max(&mut most);
+            let n = w.len();
+            Totals {
+                ranks: w[n - 1],
+                sum: Traffic::from_words(&w[..n - 3]),
+                owned: w[n - 3],
+                ghosts: w[n - 2],
+                most_sent: most[0] as u64,
+                most_received: most[1] as u64,
+            }
+        })
+    }
+
+    /// `f` with every message counted under `stage`, then the stage as it was.
+    fn during<R>(&self, stage: Stage, f: impl FnOnce() -> R) -> R {
+        let was = self.comm.enter(stage);
+        let r = f();
+        self.comm.enter(was);
+        r
     }
 
     /// The grid of ranks.
@@ -142,6 +201,8 @@ impl<C: Reduce + Post> Decomposed<C> {
     /// [`State::new`], or read back): its particles and ghosts with every field as they
     /// are, its particles' springs, the list rebuilt.
     pub fn start(&mut self, setup: &Setup, whole: &State) -> State {
+        // Whatever the start sends is the start's; the steps follow.
+        self.comm.enter(Stage::Step);
         if self.neighbours.is_empty() {
             // One rank: the serial state as it is.
             self.owned = vec![true; whole.particles.len()];
@@ -194,7 +255,9 @@ impl<C: Reduce + Post> Decomposed<C> {
 
     /// The state hash of the run over every rank ([`crate::diagnostics::state_hash`]).
     pub fn state_hash(&self, s: &State) -> u64 {
-        crate::diagnostics::state_hash_on(s, self, |i| self.owns(i))
+        self.during(Stage::Other, || {
+            crate::diagnostics::state_hash_on(s, self, |i| self.owns(i))
+        })
     }
 
     /// The run's figures over every rank ([`crate::diagnostics::measure`]): each rank's
@@ -202,7 +265,11 @@ impl<C: Reduce + Post> Decomposed<C> {
     pub fn measure(&self, setup: &Setup, s: &State) -> crate::diagnostics::Diagnostics {
         // The flags, not `self`: the transport need not be shared between threads.
         let owned = &self.owned;
-        crate::diagnostics::measure_where(setup, s, self, |i| owned.get(i).copied().unwrap_or(true))
+        self.during(Stage::Other, || {
+            crate::diagnostics::measure_where(setup, s, self, |i| {
+                owned.get(i).copied().unwrap_or(true)
+            })
+        })
     }
 
     /// Sends each rank of `to` its part of `out` (aligned with `to`) and returns what
@@ -215,6 +282,67 @@ impl<C: Reduce + Post> Decomposed<C> {
             .collect();
         let got = self.comm.exchange(outgoing, to);
         got.iter().map(|b| words::words_of(b)).collect()
+    }
+
+    /// The migration of a rebuild ([`Exchange::migrate`]), counted under its stage.
+    fn migrate_counted(&mut self, setup: &Setup, s: &mut State) {
+        let me = self.comm.rank();
+        let nw = setup.walls.len();
+        let p = &s.particles;
+        let mut rows = carried_of(setup, &s.contacts, p, &self.owned);
+        let own: Vec<Vector> = (0..p.len())
+            .filter(|&i| self.owned[i])
+            .map(|i| p.pos[i])
+            .collect();
+        // Moved cuts may hand a particle to any rank; else it stays within reach.
+        let to: Vec<usize> = if self.rebalance(&own, false) {
+            (0..self.comm.ranks()).filter(|&q| q != me).collect()
+        } else {
+            self.neighbours.clone()
+        };
+        // Round 1: particles that left the box, with their history.
+        let mut out = vec![vec![0u64]; to.len()];
+        let mut local = Particles::default();
+        let mut hist = Vec::new();
+        for i in (0..p.len()).filter(|&i| self.owned[i]) {
+            let owner = self.grid.owner(p.pos[i]);
+            if owner == me {
+                words::copy_particle(p, i, &mut local);
+                hist.push(std::mem::take(&mut rows[i]));
+                continue;
+            }
+            let w = &mut out[slot(&to, owner, me)];
+            w[0] += 1;
+            words::put_particle(w, p, i);
+            words::put_history(w, &rows[i]);
+        }
+        for got in self.swap(&to, out) {
+            let mut r = Reader::new(&got);
+            for _ in 0..r.word() {
+                words::get_particle(&mut r, &mut local);
+                hist.push(words::get_history(&mut r, nw));
+            }
+        }
+        // Round 2: fresh ghosts of the particles now owned.
+        let mut out = vec![Vec::new(); self.neighbours.len()];
+        for (k, &q) in self.neighbours.iter().enumerate() {
+            let near: Vec<usize> = (0..local.len())
+                .filter(|&i| self.grid.distance(local.pos[i], q) <= self.halo)
+                .collect();
+            self.send_ids[k] = near.iter().map(|&i| local.id[i]).collect();
+            for i in near {
+                words::put_particle(&mut out[k], &local, i);
+            }
+        }
+        for (k, got) in self.swap(&self.neighbours, out).into_iter().enumerate() {
+            let mut r = Reader::new(&got);
+            let from = local.len();
+            while !r.done() {
+                words::get_particle(&mut r, &mut local);
+            }
+            self.recv_ids[k] = local.id[from..].to_vec();
+        }
+        install(setup, s, local, hist);
     }
 }
 
@@ -362,70 +490,21 @@ impl<C: Reduce> Reduce for Decomposed<C> {
     fn gather(&self, words: Vec<u64>) -> Vec<u64> {
         self.comm.gather(words)
     }
+
+    fn gather_rows(&self, words: Vec<u64>) -> Vec<u64> {
+        self.comm.gather_rows(words)
+    }
 }
 
 impl<C: Reduce + Post> Exchange for Decomposed<C> {
     fn migrate(&mut self, setup: &Setup, s: &mut State) {
+        self.comm.tick(true);
         if self.neighbours.is_empty() {
             return;
         }
-        let me = self.comm.rank();
-        let nw = setup.walls.len();
-        let p = &s.particles;
-        let mut rows = carried_of(setup, &s.contacts, p, &self.owned);
-        let own: Vec<Vector> = (0..p.len())
-            .filter(|&i| self.owned[i])
-            .map(|i| p.pos[i])
-            .collect();
-        // Moved cuts may hand a particle to any rank; else it stays within reach.
-        let to: Vec<usize> = if self.rebalance(&own, false) {
-            (0..self.comm.ranks()).filter(|&q| q != me).collect()
-        } else {
-            self.neighbours.clone()
-        };
-        // Round 1: particles that left the box, with their history.
-        let mut out = vec![vec![0u64]; to.len()];
-        let mut local = Particles::default();
-        let mut hist = Vec::new();
-        for i in (0..p.len()).filter(|&i| self.owned[i]) {
-            let owner = self.grid.owner(p.pos[i]);
-            if owner == me {
-                words::copy_particle(p, i, &mut local);
-                hist.push(std::mem::take(&mut rows[i]));
-                continue;
-            }
-            let w = &mut out[slot(&to, owner, me)];
-            w[0] += 1;
-            words::put_particle(w, p, i);
-            words::put_history(w, &rows[i]);
-        }
-        for got in self.swap(&to, out) {
-            let mut r = Reader::new(&got);
-            for _ in 0..r.word() {
-                words::get_particle(&mut r, &mut local);
-                hist.push(words::get_history(&mut r, nw));
-            }
-        }
-        // Round 2: fresh ghosts of the particles now owned.
-        let mut out = vec![Vec::new(); self.neighbours.len()];
-        for (k, &q) in self.neighbours.iter().enumerate() {
-            let near: Vec<usize> = (0..local.len())
-                .filter(|&i| self.grid.distance(local.pos[i], q) <= self.halo)
-                .collect();
-            self.send_ids[k] = near.iter().map(|&i| local.id[i]).collect();
-            for i in near {
-                words::put_particle(&mut out[k], &local, i);
-            }
-        }
-        for (k, got) in self.swap(&self.neighbours, out).into_iter().enumerate() {
-            let mut r = Reader::new(&got);
-            let from = local.len();
-            while !r.done() {
-                words::get_particle(&mut r, &mut local);
-            }
-            self.recv_ids[k] = local.id[from..].to_vec();
-        }
-        install(setup, s, local, hist);
+        let was = self.comm.enter(Stage::Rebuild);
+        self.migrate_counted(setup, s);
+        self.comm.enter(was);
     }
 
     fn rebuilt(&mut self, _setup: &Setup, s: &mut State) {
@@ -453,9 +532,11 @@ impl<C: Reduce + Post> Exchange for Decomposed<C> {
     }
 
     fn refresh(&mut self, _setup: &Setup, p: &mut Particles) {
+        self.comm.tick(false);
         if self.neighbours.is_empty() {
             return;
         }
+        self.comm.enter(Stage::Ghosts);
         let out = self
             .send_at
             .iter()
@@ -473,6 +554,8 @@ impl<C: Reduce + Post> Exchange for Decomposed<C> {
                 words::get_motion(&mut r, p, i as usize);
             }
         }
+        // What follows, until the next refresh, is the next step's.
+        self.comm.enter(Stage::Step);
     }
 
     fn owns(&self, i: usize) -> bool {

@@ -99,6 +99,9 @@ pub fn copy_particle(p: &Particles, i: usize, out: &mut Particles) {
     out.torque.push(p.torque[i]);
 }
 
+/// Words [`put_motion`] writes per particle.
+pub const MOTION_WORDS: usize = 3 * Vector::N + 2 * AngVector::N;
+
 /// Appends what changes every step: position, velocity, spin, force, torque.
 pub fn put_motion(out: &mut Vec<u64>, p: &Particles, i: usize) {
     put(out, p.pos[i]);

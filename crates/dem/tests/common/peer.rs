@@ -71,3 +71,14 @@ pub fn bed(n: usize, nx: usize) -> (Setup, Particles) {
     }
     (setup, p)
 }
+
+/// Moves `p`'s disks onto a triangular lattice squeezed to 0.95 of their spacing, rows
+/// `nx` wide: most overlap several neighbours and the bed springs apart.
+#[allow(dead_code)] // Not every test that loads this module squeezes.
+pub fn squeeze(p: &mut Particles, nx: usize) {
+    for (k, x) in p.pos.iter_mut().enumerate() {
+        let (row, col) = ((k / nx) as f64, (k % nx) as f64);
+        let shift = 0.5 * ((k / nx) % 2) as f64;
+        *x = 0.95 * DVec2::new(col + 0.5 + shift, 0.866 * row + 0.6);
+    }
+}

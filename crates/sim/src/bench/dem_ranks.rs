@@ -6,7 +6,7 @@
 
 use super::dem::{build, Bed, DT};
 use super::{peak_memory_mb, Report};
-use crate::dem::ranks::Link;
+use crate::dem::ranks::{comm_of, Link};
 use grains_dem::decomp::Decomposed;
 use grains_dem::{step_on, Exchange, NoHooks, Reduce, State};
 
@@ -31,6 +31,7 @@ pub fn run_on(bed: &Bed, steps: u64, link: Link) -> Result<Option<Report>, Strin
     d.sum_u64(&mut held);
     let figures = d.measure(&setup, &s);
     let hash = d.state_hash(&s);
+    let comm = comm_of(&d.traffic_over_ranks(&s));
     if d.rank() != 0 {
         return Ok(None);
     }
@@ -41,6 +42,8 @@ pub fn run_on(bed: &Bed, steps: u64, link: Link) -> Result<Option<Report>, Strin
         format!("{:.4}", (held[0] - held[1]) as f64 / held[1].max(1) as f64),
     );
     r.line("neighbour builds", s.contacts.builds);
+    // What the steps sent (the bench keeps no energy ledger: its gathers are absent).
+    r.lines.extend(comm.lines());
     r.line(
         "contacts per particle",
         format!("{:.3}", figures.mean_coordination(particles)),

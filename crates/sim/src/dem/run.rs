@@ -277,6 +277,7 @@ impl Live for DemRun {
         counts.insert("neighbour_builds".into(), sim.state.contacts.builds.into());
         if let Some(part) = &sim.ranks {
             crate::ranks::count_balance(&mut counts, part.dec.imbalance(), part.dec.rebalances());
+            part.comm().insert_into(&mut counts);
         }
         let costs = Costs {
             dt: sim.dt,

@@ -23,6 +23,9 @@ pub struct Share {
     /// What its part needs in memory (bytes), at `grains check`'s figure per particle
     /// (`dem::check::cost`) applied to owned + ghost particles.
     pub memory_bytes: u64,
+    /// Bytes it sends in each step's ghost refresh until the first rebuild (what a run
+    /// books as `comm.per_rank_and_step.ghosts.bytes_sent`).
+    pub ghost_bytes_per_step: u64,
 }
 
 /// A 2D DEM start spread over ranks.
@@ -48,6 +51,12 @@ impl Spread {
         ghosts as f64 / owned.max(1) as f64
     }
 
+    /// Bytes a rank sends in a step's ghost refresh, mean over the ranks.
+    pub fn ghost_bytes_per_step(&self) -> f64 {
+        let sent: u64 = self.shares.iter().map(|s| s.ghost_bytes_per_step).sum();
+        sent as f64 / self.shares.len().max(1) as f64
+    }
+
     /// As aligned lines.
     pub fn text(&self) -> String {
         let [nx, ny] = self.grid;
@@ -64,15 +73,20 @@ impl Spread {
             "ghosts       {:.4} per owned particle over every rank\n",
             self.ghosts_per_owned()
         ));
+        s.push_str(&format!(
+            "ghost refresh {:.0} B sent per rank and step (mean), until the first rebuild\n",
+            self.ghost_bytes_per_step()
+        ));
         for (r, sh) in self.shares.iter().enumerate() {
             s.push_str(&format!(
-                "rank {r:<7} box [{}, {}]: {} owned, {} ghosts ({:.4} per owned), memory ≈ {}\n",
+                "rank {r:<7} box [{}, {}]: {} owned, {} ghosts ({:.4} per owned), memory ≈ {}, ghost refresh {} B per step\n",
                 sh.cell[0],
                 sh.cell[1],
                 sh.owned,
                 sh.ghosts,
                 sh.ghosts as f64 / sh.owned.max(1) as f64,
-                crate::estimate::bytes(sh.memory_bytes)
+                crate::estimate::bytes(sh.memory_bytes),
+                sh.ghost_bytes_per_step
             ));
         }
         s.push_str(&format!(
@@ -88,12 +102,14 @@ impl Spread {
             "grid": self.grid,
             "grid_given": self.given,
             "ghosts_per_owned": self.ghosts_per_owned(),
+            "ghost_bytes_per_step": self.ghost_bytes_per_step(),
             "start_memory_bytes": self.whole_bytes,
             "per_rank": self.shares.iter().map(|s| json!({
                 "box": s.cell,
                 "owned": s.owned,
                 "ghosts": s.ghosts,
                 "memory_bytes_estimate": s.memory_bytes,
+                "ghost_bytes_per_step": s.ghost_bytes_per_step,
             })).collect::<Vec<_>>(),
         })
     }
@@ -148,19 +164,27 @@ pub fn spread(src: &Source, n: usize) -> Result<Spread, String> {
             let held = part.local.particles.len();
             let owned = part.dec.owned(&part.local.particles);
             let grid = part.dec.grid();
-            Ok((grid.dims, grid.coords(part.rank()), owned, held - owned))
+            let sent = part.dec.ghost_bytes_per_step();
+            Ok((
+                grid.dims,
+                grid.coords(part.rank()),
+                owned,
+                held - owned,
+                sent,
+            ))
         })
     });
     let mut shares = Vec::with_capacity(n);
     let mut grid = [1, 1];
     for p in parts {
-        let (dims, cell, owned, ghosts) = p.map_err(refused)?;
+        let (dims, cell, owned, ghosts, ghost_bytes_per_step) = p.map_err(refused)?;
         grid = dims;
         shares.push(Share {
             cell,
             owned,
             ghosts,
             memory_bytes: memory(owned + ghosts),
+            ghost_bytes_per_step,
         });
     }
     Ok(Spread {

@@ -304,12 +304,14 @@ impl Live for Dem3Run {
         let mut counts = serde_json::Map::new();
         counts.insert("dimensions".into(), 3.into());
         counts.insert("neighbour_builds".into(), sim.state.contacts.builds.into());
+        if let Some(part) = &sim.ranks {
+            // Of this segment of the run, as in 2D.
+            crate::ranks::count_balance(&mut counts, part.dec.imbalance(), part.dec.rebalances());
+            part.comm().insert_into(&mut counts);
+        }
         if let Some(p) = &sim.pour {
             counts.insert("poured".into(), p.inserted().into());
             counts.insert("poured_mass_kg".into(), p.inserted_mass().into());
-        }
-        if let Some(part) = &sim.ranks {
-            crate::ranks::count_balance(&mut counts, part.dec.imbalance(), part.dec.rebalances());
         }
         let costs = Costs {
             dt: sim.dt,

@@ -3,6 +3,8 @@
 //! rank steps is one source, `ranks/part.rs`, compiled once per engine as the engine
 //! itself is (`dem::ranks` over `grains_dem`, `dem3d::ranks` over `grains_dem3d`).
 
+pub mod comm;
+
 use crate::driver::{agreed, Counters, Outcome, Plan, Simulation};
 use crate::frames::{FrameRecorder, Framed};
 use crate::history::{HistoryRecorder, Recorded};

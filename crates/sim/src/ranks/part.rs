@@ -9,10 +9,12 @@
 // loads and the ledger (the same on every rank, copied into rank 0's view every step).
 
 use super::engine::comm::Post;
+use super::engine::decomp::traffic::Totals;
 use super::engine::decomp::{Decomposed, GridError};
 use super::engine::diagnostics::Diagnostics;
 use super::engine::math::DIM;
 use super::engine::{step_on, Hooks, NoHooks, Reduce, Setup, State};
+use crate::ranks::comm::{Comm, PerStep};
 use crate::ranks::Link;
 use serde::{Deserialize, Serialize};
 
@@ -100,6 +102,8 @@ pub struct Part {
     pub dec: Decomposed<Link>,
     /// The state hash over every rank at the last gather.
     hash: u64,
+    /// Every rank's messages until the last gather.
+    comm: Comm,
 }
 
 impl Part {
@@ -124,7 +128,13 @@ impl Part {
             .with_balance(balance);
         let local = dec.start(setup, whole);
         let hash = dec.state_hash(&local);
-        Ok(Part { local, dec, hash })
+        let comm = comm_of(&dec.traffic_over_ranks(&local));
+        Ok(Part {
+            local,
+            dec,
+            hash,
+            comm,
+        })
     }
 
     /// This rank.
@@ -194,6 +204,12 @@ impl Part {
             view.ledger = self.local.ledger;
         }
         self.hash = self.dec.state_hash(&self.local);
+        self.comm = comm_of(&self.dec.traffic_over_ranks(&self.local));
+    }
+
+    /// What every rank sent until the last gather (the end, at the end of a run).
+    pub fn comm(&self) -> &Comm {
+        &self.comm
     }
 
     /// The state hash over every rank at the last gather (the serial run's).
@@ -206,6 +222,29 @@ impl Part {
         (0..self.local.particles.len())
             .filter(|&i| self.dec.owns(i))
             .collect()
+    }
+}
+
+/// `t` per rank and per step, as a user reads it.
+pub fn comm_of(t: &Totals) -> Comm {
+    let per = |bytes: u64| t.per_rank_step(bytes);
+    let stage = |f: &super::engine::decomp::traffic::Flow| PerStep {
+        messages: per(f.messages),
+        collectives: per(f.collectives),
+        sent: per(f.sent),
+        received: per(f.received),
+    };
+    let s = &t.sum;
+    let steps = t.steps().max(1) as f64;
+    Comm {
+        ranks: t.ranks,
+        steps: t.steps(),
+        rebuilds: s.rebuilds / t.ranks.max(1),
+        owned: t.owned,
+        ghosts: t.ghosts,
+        stages: [s.ghosts, s.rebuild, s.reductions, s.ledger, s.other].map(|f| stage(&f)),
+        busiest_sent: t.most_sent as f64 / steps,
+        busiest_received: t.most_received as f64 / steps,
     }
 }
 
