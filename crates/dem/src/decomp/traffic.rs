@@ -76,13 +76,15 @@ pub struct Traffic {
     /// histories, and the fresh ghosts with every field.
     pub rebuild: Flow,
     /// The step's reductions: the rebuild test (any, max, the residuals' gather, the
-    /// frame's sums, the particle count), the wall loads' exact sums.
+    /// frame's sums, the particle count), the wall loads' exact sums; and what a run
+    /// asks between steps outside its outputs (the agreement every few steps, the
+    /// disk-escape test's gather at samples).
     pub reductions: Flow,
     /// The energy ledger's gathers of 1 + 17 words per owned particle (two a step: the
     /// pair pass's rows and the walls').
     pub ledger: Flow,
-    /// Outside the step: the start, samples, the state hash, whole-state gathers, the
-    /// agreement every few steps.
+    /// Outside the step: the start, the samples' figures, the state hash, whole-state
+    /// gathers.
     pub other: Flow,
 }
 

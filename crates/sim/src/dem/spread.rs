@@ -74,7 +74,7 @@ impl Spread {
             self.ghosts_per_owned()
         ));
         s.push_str(&format!(
-            "ghost refresh {:.0} B sent per rank and step (mean), until the first rebuild\n",
+            "ghost bytes  {:.0} B sent per rank and step in the ghost refresh (mean), until the first rebuild\n",
             self.ghost_bytes_per_step()
         ));
         for (r, sh) in self.shares.iter().enumerate() {
