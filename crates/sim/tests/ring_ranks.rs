@@ -10,7 +10,9 @@ use std::path::Path;
 #[path = "common/on_ranks.rs"]
 mod on_ranks;
 
-use on_ranks::{columns_but, hashed, on_ranks, on_ranks_with, refused_everywhere};
+use on_ranks::{
+    as_pieces, columns_but, files, hashed, on_ranks, on_ranks_with, refused_everywhere,
+};
 
 /// A 2 mm PE4 charge in a ring of 0.1 mm disks (about 1,400), cut to `duration`.
 fn ring(duration: f64, more: &str) -> Source {
