@@ -64,6 +64,13 @@ fn the_ring_on_1_2_and_4_ranks_is_the_serial_run() {
         b.remove("coupling_builds");
         assert_eq!(a, b, "{n} ranks");
         assert_eq!(leader.summary.checks, serial.summary.checks, "{n} ranks");
+        // Rank 0's files are the serial run's, each ring frame as an index and its
+        // pieces (the charge's frames written once).
+        assert_eq!(
+            files(&out),
+            as_pieces(files(&dir.path().join("serial")), n),
+            "{n} ranks"
+        );
         assert_eq!(
             columns(&out),
             columns(&dir.path().join("serial")),
