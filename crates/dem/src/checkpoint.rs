@@ -79,7 +79,7 @@ pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
         .flat_map(|h| h.into_iter())
         .collect();
     put_f64(w, &history)?;
-    put_f64(w, c.wall_history.as_flattened())?;
+    put_f64(w, &c.wall_history.full())?;
     let poses: Vec<f64> = state
         .walls
         .iter()
@@ -306,7 +306,7 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
             Some(history[e])
         }),
     };
-    c.wall_history = rows(wall_history);
+    c.wall_history = crate::history::Narrow::from_records(&rows(wall_history));
     let pose = Vector::N + AngVector::N;
     let walls = get_f64(r, pose * n_walls)?;
     same("wall poses", walls.len(), pose * n_walls)?;

@@ -88,7 +88,8 @@ fn run<const P: u8>(
     let one = table.len() == 1 || p.material.iter().all(|&m| m as usize == m0);
     let uniform = (one && m0 < table.len()).then(|| *table.get(m0, m0));
     let n = p.len();
-    list.history.fit(list.nbr.len(), n.div_ceil(CHUNK));
+    list.history
+        .fit(list.nbr.len(), n.div_ceil(CHUNK), table.history_width());
     list.fit_touch();
     let row = &list.row;
     let mut jobs = Vec::with_capacity(n.div_ceil(CHUNK));
@@ -213,15 +214,17 @@ impl<const P: u8> Ctx<'_, P> {
                     .table
                     .get(self.material[i] as usize, self.material[j] as usize),
             };
-            let h = c.pool.take(&mut c.slot[k]);
-            let before = *h;
-            let r = law.respond(&contact, h, dt);
+            let s = c.pool.take(&mut c.slot[k]);
+            let mut h = c.pool.at(s);
+            let before = h;
+            let r = law.respond(&contact, &mut h, dt);
+            c.pool.put(s, &h);
             if BOOK {
                 let prior = Prior {
                     overlap: rsum - (d + dt * contact.v).length(),
                     omega_sum: omega[i] + omega[j],
                 };
-                c.terms[i - first] += law.ledger_terms(&contact, &before, h, &r, dt, &prior);
+                c.terms[i - first] += law.ledger_terms(&contact, &before, &h, &r, dt, &prior);
             }
             let half = 0.5 * contact.overlap;
             c.force[i - first] += r.force;
@@ -280,7 +283,7 @@ impl<const P: u8> Ctx<'_, P> {
             b.ri[t] = ri;
             b.rj[t] = rj;
             b.inv_msum[t] = self.inv_mass[i] + self.inv_mass[j];
-            Tangent::from_slice(&c.pool.at(c.slot[k])[..TAN]).write(&mut b.xi, t);
+            Tangent::from_slice(c.pool.spring(c.slot[k])).write(&mut b.xi, t);
         }
         // The deck's law (Hertz, Tsuji, Mindlin) and the step's update are fixed at
         // compile time: the loop then has no branch left and vectorises.
@@ -300,7 +303,7 @@ impl<const P: u8> Ctx<'_, P> {
             let f = Vector::read(&b.f, t);
             let tj = AngVector::read(&b.tj, t);
             let xi = Tangent::read(&b.xi, t);
-            let h = c.pool.at_mut(c.slot[k]);
+            let h = c.pool.spring_mut(c.slot[k]);
             for a in 0..TAN {
                 h[a] = xi.get(a);
             }
