@@ -46,8 +46,20 @@ pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
         true => math::put(w, &c.shear)?,
         false => math::put(w, &vec![Tangent::default(); c.nbr.len()])?,
     }
-    math::put(w, &c.fpair)?;
-    math::put(w, &c.ftan)?;
+    // A granular list keeps its reactions in its pools, for the touching pairs alone:
+    // the file holds them per entry (zero where apart), as the linear law's list does.
+    match c.fpair.len() == c.nbr.len() && c.ftan.len() == c.nbr.len() {
+        true => {
+            math::put(w, &c.fpair)?;
+            math::put(w, &c.ftan)?;
+        }
+        false => {
+            let (fpair, ftan): (Vec<Vector>, Vec<AngVector>) =
+                (0..c.nbr.len()).map(|e| c.reaction(e)).unzip();
+            math::put(w, &fpair)?;
+            math::put(w, &ftan)?;
+        }
+    }
     put_u32(w, &c.rev_row)?;
     put_u32(w, &c.rev_entry)?;
     put_u64(w, &c.wall_near)?;

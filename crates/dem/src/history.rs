@@ -15,7 +15,7 @@
 //! first, so no number is ever lost and the bits are those of full-width records.
 
 use crate::granular::WIDTH;
-use crate::math::TAN;
+use crate::math::{AngVector, Vector, TAN};
 use crate::CHUNK;
 
 /// One contact's history under the granular law.
@@ -227,10 +227,19 @@ fn read(row: &[f64]) -> GranularHistory {
 }
 
 /// The histories of one chunk's touching pairs, with the slots freed since the last
-/// rebuild kept for reuse.
+/// rebuild kept for reuse, and beside each history its pair's reaction at the last pass.
+///
+/// The reaction (the force on the row owner, the partner's torque per unit of its
+/// radius) is kept per touching pair rather than per list entry: an entry apart has no
+/// reaction to keep, and about half the entries of a dense bed are apart. Its arrays
+/// grow when the pass first writes a reaction, not when a slot is taken: a rebuild,
+/// which fills new pools while the old histories are still held, then holds histories
+/// alone.
 #[derive(Clone, Debug, Default)]
 pub struct Pool {
     data: Narrow,
+    force: Vec<Vector>,
+    moment: Vec<AngVector>,
     free: Vec<u32>,
 }
 
@@ -269,6 +278,28 @@ impl Pool {
     #[inline]
     pub fn put(&mut self, slot: u32, h: &GranularHistory) {
         self.data.set(slot as usize, h);
+    }
+
+    /// The reaction of the pair in `slot` at the last pass: the force on the row owner
+    /// and the partner's torque per unit of its radius.
+    #[inline]
+    pub fn reaction(&self, slot: u32) -> (Vector, AngVector) {
+        let s = slot as usize;
+        match (self.force.get(s), self.moment.get(s)) {
+            (Some(&f), Some(&m)) => (f, m),
+            _ => (Vector::ZERO, AngVector::default()),
+        }
+    }
+
+    /// Keeps the reaction of the pair in `slot` ([`Pool::reaction`]).
+    #[inline]
+    pub fn set_reaction(&mut self, slot: u32, force: Vector, moment: AngVector) {
+        if self.force.len() <= slot as usize {
+            self.force.resize(self.data.len(), Vector::ZERO);
+            self.moment.resize(self.data.len(), AngVector::default());
+        }
+        self.force[slot as usize] = force;
+        self.moment[slot as usize] = moment;
     }
 
     /// The tangential spring in `slot` (the first numbers of its history).
@@ -345,6 +376,16 @@ impl Histories {
         self.pools.iter().map(Pool::width).max().unwrap_or(TAN)
     }
 
+    /// The reaction of entry `e`, whose row owner is `owner` (zero when its pair did not
+    /// touch at the last pass).
+    #[inline]
+    pub fn reaction(&self, e: usize, owner: u32) -> (Vector, AngVector) {
+        match self.slot[e] {
+            NONE => (Vector::ZERO, AngVector::default()),
+            s => self.pools[owner as usize / CHUNK].reaction(s),
+        }
+    }
+
     /// The history of entry `e`, whose row owner is `owner` (zero when it has none).
     #[inline]
     pub fn get(&self, e: usize, owner: u32) -> GranularHistory {
@@ -368,10 +409,12 @@ mod tests {
         let sb = p.take(&mut b);
         p.spring_mut(sb)[0] = 2.0;
         assert_eq!((a, b), (0, 1));
-        assert_eq!(p.at(p.take(&mut a))[0], 1.0);
+        let s = p.take(&mut a);
+        assert_eq!(p.at(s)[0], 1.0);
         p.release(&mut a);
         assert_eq!(a, NONE);
-        assert_eq!(p.at(p.take(&mut a))[0], 0.0);
+        let s = p.take(&mut a);
+        assert_eq!(p.at(s)[0], 0.0);
         assert_eq!(a, 0);
     }
 
@@ -382,6 +425,18 @@ mod tests {
         assert_eq!(h.slot, vec![NONE, 0, 1, 0]);
         assert_eq!(h.get(3, owner[3])[0], 3.0);
         assert_eq!(h.get(0, owner[0]), [0.0; WIDTH]);
+    }
+
+    #[test]
+    fn a_reaction_is_read_through_its_entry_slot() {
+        let owner = [0u32, (CHUNK + 2) as u32];
+        let mut h = Histories::from_entries(&owner, 2, |_| Some([1.0; WIDTH]));
+        let f = Vector::splat(2.5);
+        h.pools[1].set_reaction(h.slot[1], f, AngVector::default());
+        assert_eq!(h.reaction(1, owner[1]).0, f);
+        assert_eq!(h.reaction(0, owner[0]).0, Vector::ZERO);
+        h.pools[1].release(&mut h.slot[1]);
+        assert_eq!(h.reaction(1, owner[1]).0, Vector::ZERO);
     }
 
     #[test]

@@ -298,6 +298,10 @@ pub fn walls_gather_kick(
     let (pos, radius, inv_mass, inv_inertia, material) =
         (&p.pos, &p.radius, &p.inv_mass, &p.inv_inertia, &p.material);
     let (fpair, ftan, touch) = (&list.fpair, &list.ftan, &list.touch);
+    // The granular law keeps its reactions beside the touching pairs' histories: an
+    // entry with a slot touches, and its reaction is in its row owner's pool.
+    let pooled = granular.is_some() && list.history.kept(list.nbr.len());
+    let (slot, pools, owner) = (&list.history.slot, &list.history.pools, &list.owner);
     // Most entries of a dilute bed do not touch: reading a flag and skipping them beats
     // reading every force; where most touch, the flag's branch would mispredict.
     let sparse = 2 * list.touching < list.nbr.len();
@@ -324,7 +328,17 @@ pub fn walls_gather_kick(
                     let mut f = force[k];
                     let mut t_rev = AngVector::default();
                     let rev = &rev_entry[rev_row[i] as usize..rev_row[i + 1] as usize];
-                    if sparse {
+                    if pooled {
+                        // As the sparse loop below: entries apart are skipped.
+                        for &e in rev {
+                            let e = e as usize;
+                            if slot[e] != crate::history::NONE {
+                                let (fp, tp) = pools[owner[e] as usize / CHUNK].reaction(slot[e]);
+                                f -= fp;
+                                t_rev += tp;
+                            }
+                        }
+                    } else if sparse {
                         // The force of an entry that does not touch is +0, and x − (+0) is
                         // x; a torque sum left at −0 by the skip cannot show either, as the
                         // own-row sum it is added to is never −0 (a sum that starts at +0).

@@ -42,10 +42,12 @@ pub struct ContactList {
     /// reads either).
     pub shear: Vec<Tangent>,
     /// Force on the row owner from this entry at the last evaluation (the partner gets
-    /// the opposite); zero when the pair does not touch.
+    /// the opposite); zero when the pair does not touch. Empty under the granular law,
+    /// whose pools keep it for the touching pairs alone ([`ContactList::reaction`]
+    /// reads either).
     pub fpair: Vec<Vector>,
     /// The partner's torque from this entry per unit of its radius (the linear law: n ×
-    /// F_t, each side's torque being its radius times this).
+    /// F_t, each side's torque being its radius times this). Empty as `fpair` is.
     pub ftan: Vec<AngVector>,
     /// 1 where the entry's pair touched at the last evaluation, else 0. The pass zeroes
     /// an entry's force only when it stops touching (a byte per entry read, where a
@@ -210,6 +212,17 @@ impl ContactList {
         self.shear.get(e).copied().unwrap_or_default()
     }
 
+    /// Entry `e`'s force on its row owner and its partner's torque per unit radius at
+    /// the last evaluation: from the per-entry arrays where the list keeps them (the
+    /// linear law, a list read back), else from the granular law's pools.
+    pub fn reaction(&self, e: usize) -> (Vector, AngVector) {
+        match (self.fpair.get(e), self.ftan.get(e)) {
+            (Some(&f), Some(&t)) => (f, t),
+            _ if self.history.kept(self.nbr.len()) => self.history.reaction(e, self.owner[e]),
+            _ => (Vector::ZERO, AngVector::default()),
+        }
+    }
+
     /// The granular law's history of entry `e` (zero where the pair does not touch), or
     /// `None` when the list keeps none (the linear law).
     pub fn granular(&self, e: usize) -> Option<GranularHistory> {
@@ -305,10 +318,10 @@ impl ContactList {
             self.nbr.extend_from_slice(&nbr);
             self.shear.extend_from_slice(&shear);
         }
-        self.fpair.clear();
-        self.fpair.resize(m, Vector::ZERO);
-        self.ftan.clear();
-        self.ftan.resize(m, AngVector::default());
+        if !granular {
+            self.fpair.resize(m, Vector::ZERO);
+            self.ftan.resize(m, AngVector::default());
+        }
         self.touch.resize(m, 0);
         self.touching = 0;
         self.index_reverse(&particles.id);
