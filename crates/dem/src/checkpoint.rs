@@ -46,8 +46,20 @@ pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
         true => math::put(w, &c.shear)?,
         false => math::put(w, &vec![Tangent::default(); c.nbr.len()])?,
     }
-    math::put(w, &c.fpair)?;
-    math::put(w, &c.ftan)?;
+    // A granular list keeps its reactions in its pools, for the touching pairs alone:
+    // the file holds them per entry (zero where apart), as the linear law's list does.
+    match c.fpair.len() == c.nbr.len() && c.ftan.len() == c.nbr.len() {
+        true => {
+            math::put(w, &c.fpair)?;
+            math::put(w, &c.ftan)?;
+        }
+        false => {
+            let (fpair, ftan): (Vec<Vector>, Vec<AngVector>) =
+                (0..c.nbr.len()).map(|e| c.reaction(e)).unzip();
+            math::put(w, &fpair)?;
+            math::put(w, &ftan)?;
+        }
+    }
     put_u32(w, &c.rev_row)?;
     put_u32(w, &c.rev_entry)?;
     put_u64(w, &c.wall_near)?;
@@ -79,7 +91,7 @@ pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
         .flat_map(|h| h.into_iter())
         .collect();
     put_f64(w, &history)?;
-    put_f64(w, c.wall_history.as_flattened())?;
+    put_f64(w, &c.wall_history.full())?;
     let poses: Vec<f64> = state
         .walls
         .iter()
@@ -306,7 +318,7 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
             Some(history[e])
         }),
     };
-    c.wall_history = rows(wall_history);
+    c.wall_history = crate::history::Narrow::from_records(&rows(wall_history));
     let pose = Vector::N + AngVector::N;
     let walls = get_f64(r, pose * n_walls)?;
     same("wall poses", walls.len(), pose * n_walls)?;

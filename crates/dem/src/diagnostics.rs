@@ -232,7 +232,7 @@ fn wall_terms(setup: &Setup, s: &State, i: usize, d: &mut Diagnostics) {
             let r = p.radius[i];
             d.elastic += match &setup.granular {
                 Some(t) => {
-                    let h = c.wall_history.get(k).copied().unwrap_or_default();
+                    let h = c.wall_history.try_get(k).unwrap_or_default();
                     t.get(mi, wm).stored_energy(overlap, r, &h)
                 }
                 None => {

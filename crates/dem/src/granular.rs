@@ -96,6 +96,16 @@ pub struct GranularParams {
     pub limit_damping: bool,
 }
 
+impl crate::contact::PairTable<GranularParams> {
+    /// The widest history any pair of the table writes ([`GranularParams::history_width`]).
+    pub fn history_width(&self) -> usize {
+        self.iter()
+            .map(GranularParams::history_width)
+            .max()
+            .unwrap_or(TAN)
+    }
+}
+
 /// Tsuji's α(e), the fit LAMMPS uses (P:990).
 pub fn tsuji_alpha(e: f64) -> f64 {
     let p = |n: i32| e.powi(n);
@@ -151,6 +161,21 @@ impl GranularParams {
             rolling: None,
             twisting: false,
             limit_damping: false,
+        }
+    }
+
+    /// How many leading numbers of a history this law writes (the rest stay zero): the
+    /// tangential spring, then the contact radius (`mindlin_rescale`), the rolling
+    /// spring and the twisting angle, as far as the last one the law has.
+    pub fn history_width(&self) -> usize {
+        if self.twisting {
+            WIDTH
+        } else if self.rolling.is_some() {
+            ROLL + TAN
+        } else if self.tangential == Tangential::MindlinRescale {
+            A_PREV + 1
+        } else {
+            TAN
         }
     }
 

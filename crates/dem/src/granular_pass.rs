@@ -3,11 +3,14 @@
 //! fixed chunks as the linear law's pass ([`crate::forces`]), so the sums are the same
 //! for any thread count.
 //!
-//! As there, a row's forces go to its owner in row order and every touching entry
-//! leaves the partner's share (flagged in `touch`) for `walls_gather_kick` (the order of ids: [`ContactList`]). Unlike
-//! the linear law, the two bodies' torques differ by more than their radii (the arms are
-//! R − δ/2 and rolling and twisting add a couple), so an entry leaves the partner's
-//! torque divided by its radius in `ftan`, which `walls_gather_kick` multiplies back.
+//! As there, a row's forces go to its owner in row order and every touching pair
+//! leaves the partner's share for `walls_gather_kick` (the order of ids:
+//! [`ContactList`]), here beside its history in the chunk's pool
+//! ([`crate::history::Pool::reaction`]) rather than in the list's per-entry `fpair` and
+//! `ftan`, which this law leaves empty. Unlike the linear law, the two bodies' torques
+//! differ by more than their radii (the arms are R − δ/2 and rolling and twisting add a
+//! couple), so a pair leaves the partner's torque divided by its radius, which
+//! `walls_gather_kick` multiplies back.
 
 use crate::contact::PairTable;
 use crate::domain::Image;
@@ -28,8 +31,6 @@ struct Chunk<'a> {
     /// The entries' slots in `pool`.
     slot: &'a mut [u32],
     pool: &'a mut Pool,
-    fpair: &'a mut [Vector],
-    ftan: &'a mut [AngVector],
     /// Which entries touch ([`ContactList::touch`]).
     touch: &'a mut [u8],
     force: &'a mut [Vector],
@@ -39,17 +40,13 @@ struct Chunk<'a> {
 }
 
 impl Chunk<'_> {
-    /// Flags entry `k` as touching or not; one that stops touching has its history
-    /// released and its forces zeroed.
+    /// Flags entry `k` as touching or not; one that does not touch has its history (and
+    /// with it its reaction) released.
     #[inline(always)]
     fn touches(&mut self, k: usize, touching: bool) -> bool {
-        let was = std::mem::replace(&mut self.touch[k], touching as u8);
+        self.touch[k] = touching as u8;
         if !touching {
             self.pool.release(&mut self.slot[k]);
-            if was != 0 {
-                self.fpair[k] = Vector::ZERO;
-                self.ftan[k] = AngVector::default();
-            }
         }
         touching
     }
@@ -88,17 +85,17 @@ fn run<const P: u8>(
     let one = table.len() == 1 || p.material.iter().all(|&m| m as usize == m0);
     let uniform = (one && m0 < table.len()).then(|| *table.get(m0, m0));
     let n = p.len();
-    list.history.fit(list.nbr.len(), n.div_ceil(CHUNK));
+    list.history
+        .fit(list.nbr.len(), n.div_ceil(CHUNK), table.history_width());
     list.fit_touch();
+    // A list read back from a checkpoint holds its reactions per entry: the pass makes
+    // them anew in the pools.
+    list.fpair = Vec::new();
+    list.ftan = Vec::new();
     let row = &list.row;
     let mut jobs = Vec::with_capacity(n.div_ceil(CHUNK));
     let mut pools = list.history.pools.iter_mut();
-    let (mut slot, mut fpair, mut ftan, mut touch) = (
-        &mut list.history.slot[..],
-        &mut list.fpair[..],
-        &mut list.ftan[..],
-        &mut list.touch[..],
-    );
+    let (mut slot, mut touch) = (&mut list.history.slot[..], &mut list.touch[..]);
     let (pos, vel, omega, radius, inv_mass, material) = (
         &p.pos,
         &p.vel,
@@ -113,21 +110,17 @@ fn run<const P: u8>(
         let range = c * CHUNK..((c + 1) * CHUNK).min(n);
         let len = (row[range.end] - row[range.start]) as usize;
         let (h, h_rest) = slot.split_at_mut(len);
-        let (f, f_rest) = fpair.split_at_mut(len);
-        let (t, t_rest) = ftan.split_at_mut(len);
         let (u, u_rest) = touch.split_at_mut(len);
         jobs.push(Chunk {
             range,
             slot: h,
             pool: pools.next().expect("a pool per chunk"),
-            fpair: f,
-            ftan: t,
             touch: u,
             force: force.next().unwrap_or_default(),
             torque: torque.next().unwrap_or_default(),
             terms: terms.next().unwrap_or_default(),
         });
-        (slot, fpair, ftan, touch) = (h_rest, f_rest, t_rest, u_rest);
+        (slot, touch) = (h_rest, u_rest);
     }
     let ctx = Ctx {
         image,
@@ -213,22 +206,23 @@ impl<const P: u8> Ctx<'_, P> {
                     .table
                     .get(self.material[i] as usize, self.material[j] as usize),
             };
-            let h = c.pool.take(&mut c.slot[k]);
-            let before = *h;
-            let r = law.respond(&contact, h, dt);
+            let s = c.pool.take(&mut c.slot[k]);
+            let mut h = c.pool.at(s);
+            let before = h;
+            let r = law.respond(&contact, &mut h, dt);
+            c.pool.put(s, &h);
             if BOOK {
                 let prior = Prior {
                     overlap: rsum - (d + dt * contact.v).length(),
                     omega_sum: omega[i] + omega[j],
                 };
-                c.terms[i - first] += law.ledger_terms(&contact, &before, h, &r, dt, &prior);
+                c.terms[i - first] += law.ledger_terms(&contact, &before, &h, &r, dt, &prior);
             }
             let half = 0.5 * contact.overlap;
             c.force[i - first] += r.force;
             c.torque[i - first] += (ri - half) * r.moment + r.couple;
             let tj = (rj - half) * r.moment - r.couple;
-            c.fpair[k] = r.force;
-            c.ftan[k] = tj * (1.0 / rj);
+            c.pool.set_reaction(s, r.force, tj * (1.0 / rj));
         }
         c.touch.iter().map(|&t| t as usize).sum()
     }
@@ -280,7 +274,7 @@ impl<const P: u8> Ctx<'_, P> {
             b.ri[t] = ri;
             b.rj[t] = rj;
             b.inv_msum[t] = self.inv_mass[i] + self.inv_mass[j];
-            Tangent::from_slice(&c.pool.at(c.slot[k])[..TAN]).write(&mut b.xi, t);
+            Tangent::from_slice(c.pool.spring(c.slot[k])).write(&mut b.xi, t);
         }
         // The deck's law (Hertz, Tsuji, Mindlin) and the step's update are fixed at
         // compile time: the loop then has no branch left and vectorises.
@@ -300,14 +294,14 @@ impl<const P: u8> Ctx<'_, P> {
             let f = Vector::read(&b.f, t);
             let tj = AngVector::read(&b.tj, t);
             let xi = Tangent::read(&b.xi, t);
-            let h = c.pool.at_mut(c.slot[k]);
+            let s = c.slot[k];
+            let h = c.pool.spring_mut(s);
             for a in 0..TAN {
                 h[a] = xi.get(a);
             }
             c.force[i - first] += f;
             c.torque[i - first] += AngVector::read(&b.ti, t);
-            c.fpair[k] = f;
-            c.ftan[k] = tj * (1.0 / b.rj[t]);
+            c.pool.set_reaction(s, f, tj * (1.0 / b.rj[t]));
         }
     }
 }

@@ -49,7 +49,7 @@ pub fn insert(setup: &Setup, s: &mut State, new: &Particles) -> Range<u32> {
         c.wall_shear.resize(n * nw, Default::default());
     }
     if c.wall_history.len() == n_old * nw && setup.granular.is_some() {
-        c.wall_history.resize(n * nw, [0.0; crate::granular::WIDTH]);
+        c.wall_history.resize(n * nw);
     }
     c.rebuild(setup, &mut s.particles);
     ids

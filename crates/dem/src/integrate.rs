@@ -5,10 +5,11 @@ use crate::comm::Reduce;
 use crate::domain::Image;
 use crate::exact::ExactSums;
 use crate::forces::contact_force;
+use crate::history::NarrowMut;
 use crate::law::{ContactLaw, Prior, Response};
 use crate::ledger::PassTally;
 use crate::math::{self, AngVector, Components, Vector, DIM};
-use crate::neighbours::{ContactList, GranularHistory};
+use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::verlet::{Comoving, Sums};
@@ -284,20 +285,23 @@ pub fn walls_gather_kick(
             .collect()
     };
     let granular = setup.granular.as_ref();
-    if granular.is_some() {
-        list.wall_history
-            .resize(n * nw, [0.0; crate::granular::WIDTH]);
+    if let Some(table) = granular {
+        // Each chunk writes its own run of records: wide enough for the law beforehand.
+        list.wall_history.widen(table.history_width());
+        list.wall_history.resize(n * nw);
     }
-    let wall_history: Vec<&mut [GranularHistory]> = if granular.is_some() && nw > 0 {
-        list.wall_history.chunks_mut(CHUNK * nw).collect()
+    let wall_history: Vec<NarrowMut> = if granular.is_some() && nw > 0 {
+        list.wall_history.chunks_mut(CHUNK * nw)
     } else {
-        (0..nchunks)
-            .map(|_| &mut [] as &mut [GranularHistory])
-            .collect()
+        (0..nchunks).map(|_| NarrowMut::default()).collect()
     };
     let (pos, radius, inv_mass, inv_inertia, material) =
         (&p.pos, &p.radius, &p.inv_mass, &p.inv_inertia, &p.material);
     let (fpair, ftan, touch) = (&list.fpair, &list.ftan, &list.touch);
+    // The granular law keeps its reactions beside the touching pairs' histories: an
+    // entry with a slot touches, and its reaction is in its row owner's pool.
+    let pooled = granular.is_some() && list.history.kept(list.nbr.len());
+    let (slot, pools, owner) = (&list.history.slot, &list.history.pools, &list.owner);
     // Most entries of a dilute bed do not touch: reading a flag and skipping them beats
     // reading every force; where most touch, the flag's branch would mispredict.
     let sparse = 2 * list.touching < list.nbr.len();
@@ -314,141 +318,152 @@ pub fn walls_gather_kick(
         .zip(wall_history)
         .zip(rows)
         .enumerate()
-        .map(|(c, ((((((vel, omega), force), torque), ws), wh), book))| {
-            let mut loads = vec![WallSum::default(); nw];
-            for k in 0..vel.len() {
-                let i = c * CHUNK + k;
-                let mut terms = PassTally::default();
-                let r = radius[i];
-                let mut f = force[k];
-                let mut t_rev = AngVector::default();
-                let rev = &rev_entry[rev_row[i] as usize..rev_row[i + 1] as usize];
-                if sparse {
-                    // The force of an entry that does not touch is +0, and x − (+0) is
-                    // x; a torque sum left at −0 by the skip cannot show either, as the
-                    // own-row sum it is added to is never −0 (a sum that starts at +0).
-                    for &e in rev {
-                        let e = e as usize;
-                        if touch[e] != 0 {
-                            f -= fpair[e];
-                            t_rev += ftan[e];
-                        }
-                    }
-                } else {
-                    for &e in rev {
-                        f -= fpair[e as usize];
-                        t_rev += ftan[e as usize];
-                    }
-                }
-                let mut tq = torque[k] + r * t_rev;
-                let mut mask = wall_near[i];
-                while mask != 0 {
-                    let w = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let shear = &mut ws[k * nw + w];
-                    let Some(touch) = setup.walls[w].shape.nearest(pos[i]) else {
-                        continue;
-                    };
-                    if touch.distance >= r {
-                        *shear = crate::math::Tangent::default();
-                        if let Some(h) = wh.get_mut(k * nw + w) {
-                            *h = [0.0; crate::granular::WIDTH];
-                        }
-                        continue;
-                    }
-                    let m = 1.0 / inv_mass[i];
-                    let at = pos[i] + touch.normal * touch.distance;
-                    let v_wall = setup.walls[w].surface_velocity(at);
-                    let v = vel[k] - v_wall;
-                    let prior = || Prior {
-                        overlap: prior_overlap(setup, w, pos[i], r, vel[k], dt_shear),
-                        omega_sum: omega[k],
-                    };
-                    // A wall is a body of infinite mass and radius that does not turn.
-                    let contact = crate::law::Contact {
-                        n: touch.normal,
-                        overlap: r - touch.distance,
-                        r_eff: r,
-                        m_eff: m,
-                        v,
-                        spin: r * omega[k],
-                        w_rel: omega[k],
-                    };
-                    let (fw, tw) = match granular {
-                        Some(table) => {
-                            let wm = setup.walls[w].material.map_or(material[i], |m| m);
-                            let law = table.get(material[i] as usize, wm as usize);
-                            let h = &mut wh[k * nw + w];
-                            let before = *h;
-                            let resp = law.respond(&contact, h, dt_shear);
-                            if !book.is_empty() {
-                                terms += law.ledger_terms(
-                                    &contact,
-                                    &before,
-                                    h,
-                                    &resp,
-                                    dt_shear,
-                                    &prior(),
-                                );
+        .map(
+            |(c, ((((((vel, omega), force), torque), ws), mut wh), book))| {
+                let mut loads = vec![WallSum::default(); nw];
+                for k in 0..vel.len() {
+                    let i = c * CHUNK + k;
+                    let mut terms = PassTally::default();
+                    let r = radius[i];
+                    let mut f = force[k];
+                    let mut t_rev = AngVector::default();
+                    let rev = &rev_entry[rev_row[i] as usize..rev_row[i + 1] as usize];
+                    if pooled {
+                        // As the sparse loop below: entries apart are skipped.
+                        for &e in rev {
+                            let e = e as usize;
+                            if slot[e] != crate::history::NONE {
+                                let (fp, tp) = pools[owner[e] as usize / CHUNK].reaction(slot[e]);
+                                f -= fp;
+                                t_rev += tp;
                             }
-                            let arm = r - 0.5 * contact.overlap;
-                            (resp.force, arm * resp.moment + resp.couple)
                         }
-                        None => {
-                            let params = setup.wall_pair(w, material[i] as usize);
-                            let before = *shear;
-                            let cf = contact_force(
-                                params,
-                                m,
-                                touch.normal,
-                                r - touch.distance,
-                                v,
-                                r * omega[k],
-                                shear,
-                                dt_shear,
-                            );
-                            let fw = -cf.normal * touch.normal
-                                + math::tangent_vector(cf.tangential, touch.normal);
-                            let moment = math::moment(cf.tangential, touch.normal);
-                            if !book.is_empty() {
-                                let resp = Response {
-                                    force: fw,
-                                    moment,
-                                    couple: AngVector::default(),
-                                    normal: cf.normal,
-                                };
-                                terms += params.ledger_terms(
-                                    &contact,
-                                    &before,
+                    } else if sparse {
+                        // The force of an entry that does not touch is +0, and x − (+0) is
+                        // x; a torque sum left at −0 by the skip cannot show either, as the
+                        // own-row sum it is added to is never −0 (a sum that starts at +0).
+                        for &e in rev {
+                            let e = e as usize;
+                            if touch[e] != 0 {
+                                f -= fpair[e];
+                                t_rev += ftan[e];
+                            }
+                        }
+                    } else {
+                        for &e in rev {
+                            f -= fpair[e as usize];
+                            t_rev += ftan[e as usize];
+                        }
+                    }
+                    let mut tq = torque[k] + r * t_rev;
+                    let mut mask = wall_near[i];
+                    while mask != 0 {
+                        let w = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        let shear = &mut ws[k * nw + w];
+                        let Some(touch) = setup.walls[w].shape.nearest(pos[i]) else {
+                            continue;
+                        };
+                        if touch.distance >= r {
+                            *shear = crate::math::Tangent::default();
+                            wh.clear(k * nw + w);
+                            continue;
+                        }
+                        let m = 1.0 / inv_mass[i];
+                        let at = pos[i] + touch.normal * touch.distance;
+                        let v_wall = setup.walls[w].surface_velocity(at);
+                        let v = vel[k] - v_wall;
+                        let prior = || Prior {
+                            overlap: prior_overlap(setup, w, pos[i], r, vel[k], dt_shear),
+                            omega_sum: omega[k],
+                        };
+                        // A wall is a body of infinite mass and radius that does not turn.
+                        let contact = crate::law::Contact {
+                            n: touch.normal,
+                            overlap: r - touch.distance,
+                            r_eff: r,
+                            m_eff: m,
+                            v,
+                            spin: r * omega[k],
+                            w_rel: omega[k],
+                        };
+                        let (fw, tw) = match granular {
+                            Some(table) => {
+                                let wm = setup.walls[w].material.map_or(material[i], |m| m);
+                                let law = table.get(material[i] as usize, wm as usize);
+                                let mut h = wh.get(k * nw + w);
+                                let before = h;
+                                let resp = law.respond(&contact, &mut h, dt_shear);
+                                wh.set(k * nw + w, &h);
+                                if !book.is_empty() {
+                                    terms += law.ledger_terms(
+                                        &contact,
+                                        &before,
+                                        &h,
+                                        &resp,
+                                        dt_shear,
+                                        &prior(),
+                                    );
+                                }
+                                let arm = r - 0.5 * contact.overlap;
+                                (resp.force, arm * resp.moment + resp.couple)
+                            }
+                            None => {
+                                let params = setup.wall_pair(w, material[i] as usize);
+                                let before = *shear;
+                                let cf = contact_force(
+                                    params,
+                                    m,
+                                    touch.normal,
+                                    r - touch.distance,
+                                    v,
+                                    r * omega[k],
                                     shear,
-                                    &resp,
                                     dt_shear,
-                                    &prior(),
                                 );
+                                let fw = -cf.normal * touch.normal
+                                    + math::tangent_vector(cf.tangential, touch.normal);
+                                let moment = math::moment(cf.tangential, touch.normal);
+                                if !book.is_empty() {
+                                    let resp = Response {
+                                        force: fw,
+                                        moment,
+                                        couple: AngVector::default(),
+                                        normal: cf.normal,
+                                    };
+                                    terms += params.ledger_terms(
+                                        &contact,
+                                        &before,
+                                        shear,
+                                        &resp,
+                                        dt_shear,
+                                        &prior(),
+                                    );
+                                }
+                                (fw, r * moment)
                             }
-                            (fw, r * moment)
+                        };
+                        if !book.is_empty() {
+                            // The grain receives F·v_i = F·(v_i − v_w) + F·v_w: the law books
+                            // the first, the wall's motion supplies the second.
+                            terms.work += fw.dot(v_wall) * dt_shear;
                         }
-                    };
-                    if !book.is_empty() {
-                        // The grain receives F·v_i = F·(v_i − v_w) + F·v_w: the law books
-                        // the first, the wall's motion supplies the second.
-                        terms.work += fw.dot(v_wall) * dt_shear;
+                        f += fw;
+                        tq += tw;
+                        let arm = at - setup.walls[w].shape.reference();
+                        loads[w].add(-fw, -math::cross(arm, fw));
                     }
-                    f += fw;
-                    tq += tw;
-                    let arm = at - setup.walls[w].shape.reference();
-                    loads[w].add(-fw, -math::cross(arm, fw));
+                    if let Some(b) = book.get_mut(k) {
+                        *b = terms;
+                    }
+                    force[k] = f;
+                    torque[k] = tq;
+                    vel[k] += kick * (inv_mass[i] * f + gravity);
+                    omega[k] += kick * inv_inertia[i] * tq;
                 }
-                if let Some(b) = book.get_mut(k) {
-                    *b = terms;
-                }
-                force[k] = f;
-                torque[k] = tq;
-                vel[k] += kick * (inv_mass[i] * f + gravity);
-                omega[k] += kick * inv_inertia[i] * tq;
-            }
-            loads
-        })
+                loads
+            },
+        )
         .collect();
 
     let mut total = vec![WallSum::default(); nw];

@@ -298,7 +298,7 @@ fn wall_springs(setup: &Setup, s: &State) -> Springs {
             let wm = wall.material.map_or(mi, |m| m as usize);
             let st = match &setup.granular {
                 Some(table) => {
-                    let h = list.wall_history.get(k).copied().unwrap_or_default();
+                    let h = list.wall_history.try_get(k).unwrap_or_default();
                     table.get(mi, wm).stored_split(overlap, p.radius[i], &h)
                 }
                 None => {

@@ -15,7 +15,7 @@ use crate::verlet::{frame_centre, Comoving};
 use crate::CHUNK;
 
 pub use crate::history::GranularHistory;
-use crate::history::Histories;
+use crate::history::{Histories, Narrow};
 use rayon::prelude::*;
 
 /// Half neighbour list (each pair once, in the row of its lower id, each row in
@@ -42,10 +42,12 @@ pub struct ContactList {
     /// reads either).
     pub shear: Vec<Tangent>,
     /// Force on the row owner from this entry at the last evaluation (the partner gets
-    /// the opposite); zero when the pair does not touch.
+    /// the opposite); zero when the pair does not touch. Empty under the granular law,
+    /// whose pools keep it for the touching pairs alone ([`ContactList::reaction`]
+    /// reads either).
     pub fpair: Vec<Vector>,
     /// The partner's torque from this entry per unit of its radius (the linear law: n ×
-    /// F_t, each side's torque being its radius times this).
+    /// F_t, each side's torque being its radius times this). Empty as `fpair` is.
     pub ftan: Vec<AngVector>,
     /// 1 where the entry's pair touched at the last evaluation, else 0. The pass zeroes
     /// an entry's force only when it stops touching (a byte per entry read, where a
@@ -74,8 +76,9 @@ pub struct ContactList {
     /// With the granular law ([`crate::granular`]): the contact history of each
     /// touching entry, in place of `shear` (empty with the linear law).
     pub history: Histories,
-    /// With the granular law: each particle–wall pair's history, `[i * n_walls + w]`.
-    pub wall_history: Vec<GranularHistory>,
+    /// With the granular law: each particle–wall pair's history, record `i * n_walls +
+    /// w`, kept as wide as the law writes.
+    pub wall_history: Narrow,
     /// Positions at the last rebuild, for the skin criterion.
     pub pos_at_build: Vec<Vector>,
     /// The expanding frame the list is judged in since the last rebuild, where the
@@ -209,6 +212,17 @@ impl ContactList {
         self.shear.get(e).copied().unwrap_or_default()
     }
 
+    /// Entry `e`'s force on its row owner and its partner's torque per unit radius at
+    /// the last evaluation: from the per-entry arrays where the list keeps them (the
+    /// linear law, a list read back), else from the granular law's pools.
+    pub fn reaction(&self, e: usize) -> (Vector, AngVector) {
+        match (self.fpair.get(e), self.ftan.get(e)) {
+            (Some(&f), Some(&t)) => (f, t),
+            _ if self.history.kept(self.nbr.len()) => self.history.reaction(e, self.owner[e]),
+            _ => (Vector::ZERO, AngVector::default()),
+        }
+    }
+
     /// The granular law's history of entry `e` (zero where the pair does not touch), or
     /// `None` when the list keeps none (the linear law).
     pub fn granular(&self, e: usize) -> Option<GranularHistory> {
@@ -253,8 +267,11 @@ impl ContactList {
         if self.wall_shear.len() != n * nw {
             self.wall_shear = vec![Tangent::default(); n * nw];
         }
-        if granular && self.wall_history.len() != n * nw {
-            self.wall_history = vec![[0.0; crate::granular::WIDTH]; n * nw];
+        if let Some(table) = setup.granular.as_ref() {
+            if self.wall_history.len() != n * nw {
+                self.wall_history = Narrow::new(table.history_width());
+                self.wall_history.resize(n * nw);
+            }
         }
         self.n_walls = nw;
 
@@ -272,15 +289,7 @@ impl ContactList {
                 })
                 .collect();
             if granular {
-                let old_wh = std::mem::take(&mut self.wall_history);
-                self.wall_history = perm
-                    .iter()
-                    .flat_map(|&p| {
-                        old_wh[p as usize * nw..(p as usize + 1) * nw]
-                            .iter()
-                            .copied()
-                    })
-                    .collect();
+                self.wall_history = self.wall_history.permuted(&perm, nw);
             }
         }
 
@@ -289,7 +298,7 @@ impl ContactList {
             .into_par_iter()
             .map(|c| {
                 let range = c * CHUNK..((c + 1) * CHUNK).min(n);
-                let springs = (!granular).then_some(&old);
+                let springs = (!granular).then_some((&old.0, &old.1[..]));
                 build_rows(setup, &grid, &cell_start, particles, range, springs, &perm)
             })
             .collect();
@@ -309,26 +318,26 @@ impl ContactList {
             self.nbr.extend_from_slice(&nbr);
             self.shear.extend_from_slice(&shear);
         }
-        self.fpair.clear();
-        self.fpair.resize(m, Vector::ZERO);
-        self.ftan.clear();
-        self.ftan.resize(m, AngVector::default());
+        if !granular {
+            self.fpair.resize(m, Vector::ZERO);
+            self.ftan.resize(m, AngVector::default());
+        }
         self.touch.resize(m, 0);
         self.touching = 0;
         self.index_reverse(&particles.id);
         self.history = match old_granular {
-            Some(old) => Histories::from_entries(&self.owner, n.div_ceil(CHUNK), |e| {
+            Some((old, value)) => Histories::from_entries(&self.owner, n.div_ceil(CHUNK), |e| {
                 let (i, j) = (self.owner[e] as usize, self.nbr[e] as usize);
                 let (a, b) = (particles.id[i], particles.id[j]);
                 // Filed under the lower id's index before the re-sort.
-                let h = match a < b {
-                    true => old.get(perm[i], b)?,
-                    false => old.get(perm[j], a)?,
-                };
+                let h = value.get(match a < b {
+                    true => old.find(perm[i], b)?,
+                    false => old.find(perm[j], a)?,
+                });
                 Some(if a > b {
-                    crate::granular::swapped(h)
+                    crate::granular::swapped(&h)
                 } else {
-                    *h
+                    h
                 })
             }),
             None => Histories::default(),
@@ -338,7 +347,7 @@ impl ContactList {
             // A wall out of reach starts afresh, as its linear spring does.
             for (i, mask) in self.wall_near.iter().enumerate() {
                 for w in (0..nw).filter(|w| mask >> w & 1 == 0) {
-                    self.wall_history[i * nw + w] = [0.0; crate::granular::WIDTH];
+                    self.wall_history.clear(i * nw + w);
                 }
             }
         }
@@ -353,12 +362,20 @@ impl ContactList {
 
     /// The granular law's history of each contact, as seen from its lower id, filed
     /// under that particle's current index and looked up by the other's id (each
-    /// contact once: half the memory of filing it under both, and no hash table).
-    fn granular_by_id(&self, particles: &Particles) -> ById<GranularHistory> {
+    /// contact once: half the memory of filing it under both, and no hash table), as
+    /// wide as the widest pool.
+    fn granular_by_id(&self, particles: &Particles) -> (ById, Narrow) {
         let n = particles.len();
         let kept = self.history.kept(self.nbr.len()) && self.owner.len() == self.nbr.len();
         let id = &particles.id;
-        ById::collect(n, |put| {
+        let width = self.history.width();
+        let filed = |total| {
+            let mut v = Narrow::new(width);
+            v.resize(total);
+            v
+        };
+        let file = |v: &mut Narrow, k, h: GranularHistory| v.set(k, &h);
+        ById::collect(n, filed, file, |put| {
             if !kept {
                 return;
             }
@@ -383,10 +400,12 @@ impl ContactList {
     /// Each particle's touching pairs as (partner id, ξ as seen from the particle), by
     /// the particle's current index: the history travels with the particle, whatever
     /// its index or rank after the rebuild, and ids need not be 0..N.
-    fn history_by_id(&self, particles: &Particles) -> ById<Tangent> {
+    fn history_by_id(&self, particles: &Particles) -> (ById, Vec<Tangent>) {
         let n = particles.len();
         let kept = self.row.len() == n + 1 && self.shear.len() == self.nbr.len();
-        ById::collect(n, |put| {
+        let filed = |total| vec![Tangent::default(); total];
+        let file = |v: &mut Vec<Tangent>, k, xi| v[k] = xi;
+        ById::collect(n, filed, file, |put| {
             if !kept {
                 return;
             }
@@ -510,48 +529,47 @@ fn sort_by_cell(grid: &CellGrid, particles: &Particles) -> (Vec<u32>, Vec<u32>) 
 
 /// Per-pair records before a rebuild, filed by particle (its index before the rebuild's
 /// re-sort): the records of particle `i` are `start[i]..start[i + 1]`, each as (partner
-/// id, value), so a lookup reads a row of a few entries and the ids themselves may be
-/// anything (global ids of a distributed run).
-struct ById<T> {
+/// id, the record's place in a store of values beside it), so a lookup reads a row of a
+/// few entries and the ids themselves may be anything (global ids of a distributed run).
+struct ById {
     start: Vec<u32>,
     partner: Vec<u32>,
-    value: Vec<T>,
 }
 
-impl<T: Copy + Default> ById<T> {
+impl ById {
     /// The records `each` puts as (particle index, partner id, value), filed by a
-    /// counting sort: `each` runs twice, once to count and once to file, so nothing is
+    /// counting sort: `each` runs twice, once to count and once to file (`file` stores
+    /// a value at its place in the store `filed` makes for the total), so nothing is
     /// sorted by comparison and nothing is kept twice.
-    fn collect(n: usize, each: impl Fn(&mut dyn FnMut(usize, u32, T))) -> Self {
+    fn collect<T, S>(
+        n: usize,
+        filed: impl FnOnce(usize) -> S,
+        file: impl Fn(&mut S, usize, T),
+        each: impl Fn(&mut dyn FnMut(usize, u32, T)),
+    ) -> (Self, S) {
         let mut start = vec![0u32; n + 2];
         each(&mut |i, _, _| start[i + 2] += 1);
         for k in 2..n + 2 {
             start[k] += start[k - 1];
         }
         let total = start[n + 1] as usize;
-        let (mut partner, mut value) = (vec![0; total], vec![T::default(); total]);
+        let (mut partner, mut value) = (vec![0; total], filed(total));
         each(&mut |i, id, v| {
             let k = start[i + 1] as usize;
             partner[k] = id;
-            value[k] = v;
+            file(&mut value, k, v);
             start[i + 1] += 1;
         });
-        ById {
-            start,
-            partner,
-            value,
-        }
+        (ById { start, partner }, value)
     }
 
-    /// The record of particle `i` (index before the re-sort) with the particle of id
-    /// `partner`, if there is one.
+    /// The place of particle `i`'s record (index before the re-sort) with the particle
+    /// of id `partner`, if there is one.
     #[inline]
-    fn get(&self, i: u32, partner: u32) -> Option<&T> {
+    fn find(&self, i: u32, partner: u32) -> Option<usize> {
         let i = i as usize;
         let (&from, &to) = (self.start.get(i)?, self.start.get(i + 1)?);
-        (from as usize..to as usize)
-            .find(|&k| self.partner[k] == partner)
-            .map(|k| &self.value[k])
+        (from as usize..to as usize).find(|&k| self.partner[k] == partner)
     }
 }
 
@@ -562,7 +580,7 @@ fn build_rows(
     cell_start: &[u32],
     p: &Particles,
     range: std::ops::Range<usize>,
-    springs: Option<&ById<Tangent>>,
+    springs: Option<(&ById, &[Tangent])>,
     perm: &[u32],
 ) -> (Vec<u32>, Vec<u32>, Vec<Tangent>) {
     let mut lens = Vec::with_capacity(range.len());
@@ -597,7 +615,7 @@ fn build_rows(
                 let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
                 if d.length_squared() < cut * cut {
                     let xi = springs
-                        .and_then(|old| old.get(perm[i], p.id[j]).copied())
+                        .and_then(|(old, xi)| Some(xi[old.find(perm[i], p.id[j])?]))
                         .unwrap_or_default();
                     row.push((p.id[j], j as u32, xi));
                 }

@@ -144,7 +144,7 @@ pub fn particle_stress(setup: &Setup, s: &State) -> Vec<Tensor> {
                 w_rel: p.omega[i],
             };
             let xi = list.wall_shear.get(k).copied().unwrap_or_default();
-            let (f, _) = force_now(setup, (mi, wm), &c, xi, list.wall_history.get(k).copied());
+            let (f, _) = force_now(setup, (mi, wm), &c, xi, list.wall_history.try_get(k));
             sum[i] += outer((t.distance + 0.5 * overlap) * t.normal, f);
         }
     }

@@ -395,7 +395,9 @@ fn a_granular_bed_carries_its_histories_across_ranks_bit_for_bit() {
             // (2D: [ξ_t, a_prev, ξ_roll, ξ_twist]; a disk does not twist), walls' too.
             let wound = |h: &[f64; 4]| h[0] != 0.0 && h[2] != 0.0;
             rolling = rolling.max(live.filter(wound).count());
-            let wall_live = l.wall_history.iter().filter(|h| h[0] != 0.0).count();
+            let wall_live = (0..l.wall_history.len())
+                .filter(|&k| l.wall_history.get(k)[0] != 0.0)
+                .count();
             walls = walls.max(wall_live);
         }
     }

@@ -32,7 +32,7 @@ pub mod words;
 pub use grid::{GridError, RankGrid};
 
 use crate::comm::{Exchange, Post, Reduce};
-use crate::history::{GranularHistory, Histories};
+use crate::history::{GranularHistory, Histories, Narrow};
 use crate::math::{self, Tangent, Vector, DIM};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
@@ -404,14 +404,15 @@ fn install(setup: &Setup, s: &mut State, local: Particles, hist: Vec<Carried>) {
     list.wall_shear.resize(n * nw, Tangent::default());
     list.wall_history = match setup.granular {
         Some(_) => {
-            let mut w: Vec<GranularHistory> = hist
+            let w: Vec<GranularHistory> = hist
                 .iter()
                 .flat_map(|c| c.granular_walls.iter().copied())
                 .collect();
-            w.resize(n * nw, [0.0; crate::granular::WIDTH]);
+            let mut w = Narrow::from_records(&w);
+            w.resize(n * nw);
             w
         }
-        None => Vec::new(),
+        None => Narrow::default(),
     };
     s.particles = local;
 }
@@ -428,10 +429,9 @@ fn carried_of(setup: &Setup, list: &ContactList, p: &Particles, keep: &[bool]) -
             .get(i * nw..(i + 1) * nw)
             .map_or_else(|| vec![Tangent::default(); nw], <[Tangent]>::to_vec);
         if setup.granular.is_some() {
-            c.granular_walls = list
-                .wall_history
-                .get(i * nw..(i + 1) * nw)
-                .map_or_else(|| vec![[0.0; crate::granular::WIDTH]; nw], <[_]>::to_vec);
+            c.granular_walls = (i * nw..(i + 1) * nw)
+                .map(|k| list.wall_history.try_get(k).unwrap_or_default())
+                .collect();
         }
     }
     if list.owner.len() != list.nbr.len() {
