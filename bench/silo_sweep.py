@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
 """Silo discharge against orifice size (VALIDATION.md, "Silo discharge"): runs
 examples/dem3d/silo_small.toml widened to a 25 mm silo with orifices of D = 4, 4.5, 5 and
-6 mean diameters (the fill scaled with the silo), reads each run's steady mass flow rate
+6 mean diameters (the fill scaled with the silo), or with --full examples/dem3d/silo.toml
+(a 40 mm silo, 7500 spheres) with D = 4, 5, 6 and 7 mean diameters, reads each run's steady mass flow rate
 W from summary.json, and fits Beverloo's W = C rho_b sqrt(g) (D - k d)^(5/2) by least
 squares on W^(2/5) = a D + b (a = (C rho_b sqrt g)^(2/5), k = -b / (a d)). Writes OUT.csv
 (columns D_over_d, orifice_m, rate_kg_s, c_at_k1.5) and prints the fitted C and k.
 
-usage: python3 bench/silo_sweep.py GRAINS_BINARY OUT.csv [WORK_DIR]
-No dependencies beyond the standard library; each run takes 30-60 s on 2 cores.
+usage: python3 bench/silo_sweep.py GRAINS_BINARY OUT.csv [WORK_DIR] [--full]
+No dependencies beyond the standard library; each run takes 30-60 s on 2 cores (--full:
+a few minutes).
 """
 import math
 import os
@@ -17,19 +19,26 @@ import tempfile
 
 from sweep_run import run
 
-SIZES = [4, 4.5, 5, 6]
-grains, out = sys.argv[1:3]
-work = sys.argv[3] if len(sys.argv) > 3 else tempfile.mkdtemp()
+args = [a for a in sys.argv[1:] if a != '--full']
+full = '--full' in sys.argv[1:]
+grains, out = args[0:2]
+work = args[2] if len(args) > 2 else tempfile.mkdtemp()
 here = os.path.dirname(os.path.abspath(__file__))
-base = open(os.path.join(here, '..', 'examples', 'dem3d', 'silo_small.toml')).read()
-# The wider silo: radius 25 mm, domain and fill to match (1.56x the cross-section).
-base = base.replace('radius = 0.02\n', 'radius = 0.025\n')
-base = base.replace('[-0.021, -0.021,', '[-0.026, -0.026,').replace('[0.021, 0.021,', '[0.026, 0.026,')
-base = base.replace('radius = 0.0195, height', 'radius = 0.0245, height')
-base = base.replace('count = 900', 'count = 1400')
+examples = os.path.join(here, '..', 'examples', 'dem3d')
+if full:
+    SIZES = [4, 5, 6, 7]
+    base = open(os.path.join(examples, 'silo.toml')).read()
+else:
+    SIZES = [4, 4.5, 5, 6]
+    base = open(os.path.join(examples, 'silo_small.toml')).read()
+    # The wider silo: radius 25 mm, domain and fill to match (1.56x the cross-section).
+    base = base.replace('radius = 0.02\n', 'radius = 0.025\n')
+    base = base.replace('[-0.021, -0.021,', '[-0.026, -0.026,').replace('[0.021, 0.021,', '[0.026, 0.026,')
+    base = base.replace('radius = 0.0195, height', 'radius = 0.0245, height')
+    base = base.replace('count = 900', 'count = 1400')
 rows = []
 for k in SIZES:
-    name = f'silo_D{k}d'
+    name = f'silo{"_full" if full else ""}_D{k}d'
     text = re.sub(r'(?m)^hole = .*$', f'hole = {k * 0.00195 * 2 / 2}', base)
     f = run(grains, text, work, name)['figures']
     g = lambda key: f['mass_flow_rate_' + key]
