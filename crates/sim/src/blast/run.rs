@@ -443,8 +443,9 @@ impl Live for BlastRun {
         );
         if let Some(rp) = &sim.ranks {
             // Of this segment of the run (a resumed run counts afresh).
-            counts.insert("rank_imbalance".into(), rp.part.dec.imbalance().into());
-            counts.insert("rebalances".into(), rp.part.dec.rebalances().into());
+            let dec = &rp.part.dec;
+            crate::ranks::count_balance(&mut counts, dec.imbalance(), dec.rebalances());
+            rp.part.comm().insert_into(&mut counts);
         }
         if let Some(r) = &sim.ring {
             // The particles' own fingerprint, comparable with a DEM run's.
