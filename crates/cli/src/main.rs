@@ -77,8 +77,9 @@ enum Command {
         /// Threads the wall-time estimate is for (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
-        /// 2D DEM: also spread the start over this many ranks as `mpirun -np N grains
-        /// run` would, and print each rank's particles, ghosts and memory.
+        /// DEM (2D, 3D) and FEM–DEM rings: also spread the start over this many ranks as
+        /// `mpirun -np N grains run` would, and print each rank's particles, ghosts and
+        /// memory (a ring's charge on every rank).
         #[arg(long)]
         ranks: Option<usize>,
     },
@@ -401,7 +402,7 @@ fn cmd_check(
     let threads = threads.unwrap_or_else(rayon::current_num_threads);
     let d = check::check(&src, threads).map_err(input)?;
     let spread = ranks
-        .map(|n| grains_sim::dem::spread::spread(&src, n))
+        .map(|n| grains_sim::ranks::spread::spread(&src, n))
         .transpose()
         .map_err(input)?;
     if json {

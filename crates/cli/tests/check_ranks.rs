@@ -1,6 +1,7 @@
-//! `grains check --ranks N`: a 2D DEM start spread over N ranks as a run under mpirun
-//! spreads it, without MPI: each rank's particles, ghosts and memory; bad input refused
-//! with one line naming the value.
+//! `grains check --ranks N`: a start (2D or 3D DEM, a FEM–DEM ring) spread over N ranks
+//! as a run under mpirun spreads it, without MPI: each rank's particles, ghosts and
+//! memory; bad input, and what mpirun would refuse, refused with one line naming the
+//! value.
 
 mod common;
 use common::*;
@@ -110,5 +111,45 @@ fn a_rank_count_the_scenario_cannot_take_is_refused() {
     }
     let mpm = example("mpm/j2_simple_shear.toml");
     let o = grains(&["check", mpm.to_str().unwrap(), "--ranks", "2"]);
-    assert_refused(&o, dir.path(), &["engine = \"mpm\"", "2D DEM"]);
+    assert_refused(&o, dir.path(), &["engine = \"mpm\"", "FEM–DEM ring"]);
+    // What `mpirun grains run` refuses: a bare charge, a 3D check that watches the
+    // spheres during the run.
+    let bare = example("xue2019/charge_only.toml");
+    let o = grains(&["check", bare.to_str().unwrap(), "--ranks", "2"]);
+    assert_refused(&o, dir.path(), &["a charge without [ring]", "1 rank"]);
+    let drum = example("dem3d/drum_small.toml");
+    let o = grains(&["check", drum.to_str().unwrap(), "--ranks", "2"]);
+    assert_refused(&o, dir.path(), &["watches the spheres", "1 rank"]);
+}
+
+#[test]
+fn a_3d_column_and_a_ring_spread_over_2_ranks() {
+    let column = example("dem3d/settling_column.toml");
+    let s = spread(&column, 2);
+    assert_eq!(s["grid"].as_array().unwrap().len(), 3, "{s}");
+    assert!(s["replicated"].is_null(), "{s}");
+    let o = grains(&["check", column.to_str().unwrap(), "--ranks", "2"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    for want in ["rank 1", "ghost refresh"] {
+        assert!(o.stdout.contains(want), "{want}: {}", o.stdout);
+    }
+    let grid = o.stdout.lines().find(|l| l.contains(" grid ")).unwrap();
+    assert_eq!(grid.matches(" x ").count(), 2, "{grid}");
+    // The ring with its dispersal analysis, which runs on ranks.
+    let ring = example("xue2019/ring_small.toml");
+    let s = spread(&ring, 2);
+    let per = s["per_rank"].as_array().unwrap();
+    let owned: u64 = per.iter().map(|r| r["owned"].as_u64().unwrap()).sum();
+    assert!(owned > 15_000, "{s}");
+    let charge = s["replicated"]["memory_bytes_estimate"].as_u64().unwrap();
+    for r in per {
+        assert!(r["memory_bytes_estimate"].as_u64().unwrap() > charge, "{s}");
+    }
+    let o = grains(&["check", ring.to_str().unwrap(), "--ranks", "2"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(
+        o.stdout.contains("the charge on every rank"),
+        "{}",
+        o.stdout
+    );
 }

@@ -62,46 +62,92 @@ impl PairForce {
 /// by the set-up's contact law (the linear law's, or the granular law's) with the
 /// present velocities and the stored tangential history, not advanced.
 pub fn each_pair_force(setup: &Setup, s: &State, mut f: impl FnMut(PairForce)) {
-    let p = &s.particles;
     let list = &s.contacts;
-    let n = p.len();
+    let n = s.particles.len();
     if list.row.len() != n + 1 {
         return;
     }
     for i in 0..n {
         for e in list.row[i] as usize..list.row[i + 1] as usize {
-            let j = list.nbr[e] as usize;
-            let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
-            let dist = d.length();
-            let overlap = p.radius[i] + p.radius[j] - dist;
-            if overlap <= 0.0 || dist == 0.0 {
-                continue;
+            if let Some(c) = pair_force(setup, s, i, e) {
+                f(c);
             }
-            let nv = d / dist;
-            let (mi, mj) = (p.material[i] as usize, p.material[j] as usize);
-            let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
-            let spin = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
-            let c = Contact {
-                n: nv,
-                overlap,
-                r_eff: p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]),
-                m_eff,
-                v: p.vel[i] - p.vel[j],
-                spin,
-                w_rel: p.omega[i] - p.omega[j],
-            };
-            let (force, push) = force_now(setup, (mi, mj), &c, list.spring(e), list.granular(e));
-            f(PairForce {
-                i,
-                j,
-                branch: d,
-                normal: nv,
-                overlap,
-                force,
-                push,
-            });
         }
     }
+}
+
+/// The pair of list entry `e` in the row of particle `i`, if it touches.
+fn pair_force(setup: &Setup, s: &State, i: usize, e: usize) -> Option<PairForce> {
+    let p = &s.particles;
+    let list = &s.contacts;
+    let j = list.nbr[e] as usize;
+    let d = setup.domain.min_image(p.pos[j] - p.pos[i]);
+    let dist = d.length();
+    let overlap = p.radius[i] + p.radius[j] - dist;
+    if overlap <= 0.0 || dist == 0.0 {
+        return None;
+    }
+    let nv = d / dist;
+    let (mi, mj) = (p.material[i] as usize, p.material[j] as usize);
+    let m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
+    let spin = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
+    let c = Contact {
+        n: nv,
+        overlap,
+        r_eff: p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]),
+        m_eff,
+        v: p.vel[i] - p.vel[j],
+        spin,
+        w_rel: p.omega[i] - p.omega[j],
+    };
+    let (force, push) = force_now(setup, (mi, mj), &c, list.spring(e), list.granular(e));
+    Some(PairForce {
+        i,
+        j,
+        branch: d,
+        normal: nv,
+        overlap,
+        force,
+        push,
+    })
+}
+
+/// Σ a ⊗ f over each particle's pair contacts. With the list's reverse index, each
+/// particle adds its row (partners of higher id, ascending) and then its reverse entries
+/// (partners of lower id, ascending), as the step adds forces (rule 1 of
+/// docs/parallel.md): a function of ids alone, so the same bits whatever the storage
+/// order or the rank that holds the particle. A pair is evaluated once from each side.
+fn pair_moments(setup: &Setup, s: &State) -> Vec<Tensor> {
+    let p = &s.particles;
+    let list = &s.contacts;
+    let n = p.len();
+    let mut sum = vec![Tensor::ZERO; n];
+    let indexed = list.row.len() == n + 1
+        && list.rev_row.len() == n + 1
+        && list.owner.len() == list.nbr.len();
+    if !indexed {
+        each_pair_force(setup, s, |c| {
+            let (i, j, nv, overlap) = (c.i, c.j, c.normal, c.overlap);
+            sum[i] += outer((p.radius[i] - 0.5 * overlap) * nv, c.force);
+            sum[j] += outer(-(p.radius[j] - 0.5 * overlap) * nv, -c.force);
+        });
+        return sum;
+    }
+    for (i, total) in sum.iter_mut().enumerate() {
+        for e in list.row[i] as usize..list.row[i + 1] as usize {
+            if let Some(c) = pair_force(setup, s, i, e) {
+                *total += outer((p.radius[i] - 0.5 * c.overlap) * c.normal, c.force);
+            }
+        }
+        let rev = &list.rev_entry[list.rev_row[i] as usize..list.rev_row[i + 1] as usize];
+        for &e in rev {
+            let owner = list.owner[e as usize] as usize;
+            if let Some(c) = pair_force(setup, s, owner, e as usize) {
+                *total += outer(-(p.radius[i] - 0.5 * c.overlap) * c.normal, -c.force);
+            }
+        }
+    }
+    sum
 }
 
 /// Each particle's contact stress σ_i = (1/V_i) Σ_c a_c ⊗ f_c (Pa, tension positive; V_i
@@ -115,12 +161,7 @@ pub fn particle_stress(setup: &Setup, s: &State) -> Vec<Tensor> {
     let p = &s.particles;
     let list = &s.contacts;
     let n = p.len();
-    let mut sum = vec![Tensor::ZERO; n];
-    each_pair_force(setup, s, |c| {
-        let (i, j, nv, overlap) = (c.i, c.j, c.normal, c.overlap);
-        sum[i] += outer((p.radius[i] - 0.5 * overlap) * nv, c.force);
-        sum[j] += outer(-(p.radius[j] - 0.5 * overlap) * nv, -c.force);
-    });
+    let mut sum = pair_moments(setup, s);
     let nw = setup.walls.len();
     for i in 0..n {
         for (w, wall) in setup.walls.iter().enumerate() {

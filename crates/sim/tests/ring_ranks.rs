@@ -3,7 +3,7 @@
 //! whole charge and its box of the ring, and the state hash (charge and ring), the
 //! history and the figures are the serial run's bit for bit.
 
-use grains_sim::run::{self, RunOptions};
+use grains_sim::run::{self, Finished, RunOptions};
 use grains_sim::Source;
 use std::path::Path;
 
@@ -11,7 +11,7 @@ use std::path::Path;
 mod on_ranks;
 
 use on_ranks::{
-    as_pieces, columns_but, files, hashed, on_ranks, on_ranks_with, refused_everywhere,
+    as_pieces, columns_but, example_in, files, hashed, on_ranks, on_ranks_with, refused_everywhere,
 };
 
 /// A 2 mm PE4 charge in a ring of 0.1 mm disks (about 1,400), cut to `duration`.
@@ -79,6 +79,78 @@ fn the_ring_on_1_2_and_4_ranks_is_the_serial_run() {
     }
 }
 
+/// The dispersal table of the command line's tiny-ring test (crates/cli/tests/blast.rs),
+/// with maps at two chosen times and figures every 0.25 µs.
+const DISPERSAL: &str = "[analysis.dispersal]\ntimes = [0.5e-6, 1.0e-6]\nevery = 0.25e-6\n\
+                         [analysis.dispersal.band]\nmin_grains = 20\n";
+
+/// The figures of a summary but the wall times and the candidates' detection count.
+fn figures_but_timing(f: &Finished) -> serde_json::Map<String, serde_json::Value> {
+    let mut f = f.summary.figures.clone();
+    for k in ["coupling_builds", "dispersal_wall_time_s"] {
+        f.remove(k);
+    }
+    if let Some(d) = f.get_mut("dispersal").and_then(|d| d.as_object_mut()) {
+        d.remove("wall_time_s");
+        d.remove("maps_wall_time_s");
+    }
+    f
+}
+
+/// The bytes of every file the dispersal analysis wrote under `dir`.
+fn analysis_files(dir: &Path) -> Vec<(std::path::PathBuf, Vec<u8>)> {
+    files(dir)
+        .into_iter()
+        .filter(|f| {
+            let f = f.to_string_lossy();
+            f.starts_with("plots/dispersal/") || f.starts_with("frames/fields")
+        })
+        .map(|f| {
+            let bytes = std::fs::read(dir.join(&f)).unwrap();
+            (f, bytes)
+        })
+        .collect()
+}
+
+#[test]
+fn the_ring_with_its_dispersal_analysis_on_1_2_and_4_ranks_is_the_serial_run() {
+    let src = ring(1.0e-6, DISPERSAL);
+    let dir = tempfile::tempdir().unwrap();
+    let serial = run::run(&src, RunOptions::new(dir.path().join("serial"))).unwrap();
+    assert_eq!(serial.status.name(), "completed");
+    let want = serial.summary.state_hash.clone();
+    let analysed = serial.summary.figures["dispersal_analysed"]
+        .as_u64()
+        .unwrap();
+    // Frames at 0, 0.5 and 1 µs, samples every 0.25 µs besides.
+    assert!(analysed >= 5, "{analysed} times analysed");
+    let theirs = analysis_files(&dir.path().join("serial"));
+    assert!(theirs.iter().any(|(f, _)| f.ends_with("fields.pvd")));
+    for n in [1, 2, 4] {
+        let out = dir.path().join(format!("ranks{n}"));
+        let leader = hashed(on_ranks(&src, n, &out), &want, &format!("{n} ranks"));
+        assert_eq!(leader.status, serial.status);
+        assert_eq!(
+            figures_but_timing(&leader),
+            figures_but_timing(&serial),
+            "{n} ranks"
+        );
+        assert_eq!(leader.summary.checks, serial.summary.checks, "{n} ranks");
+        assert_eq!(
+            files(&out),
+            as_pieces(files(&dir.path().join("serial")), n),
+            "{n} ranks"
+        );
+        assert_eq!(columns(&out), columns(&dir.path().join("serial")));
+        // The fields (.vts), their series, the maps and plots: the serial bytes.
+        let ours = analysis_files(&out);
+        assert_eq!(ours.len(), theirs.len(), "{n} ranks");
+        for ((f, a), (_, b)) in ours.iter().zip(&theirs) {
+            assert!(a == b, "{n} ranks: {} differs", f.display());
+        }
+    }
+}
+
 #[test]
 fn the_ring_on_2_ranks_of_2_threads_is_the_serial_run() {
     let src = ring(0.5e-6, "");
@@ -122,8 +194,8 @@ fn a_ring_checkpoint_on_4_ranks_resumes_on_2_as_the_straight_run() {
 #[test]
 fn what_ring_ranks_cannot_run_is_refused_on_every_rank() {
     let dir = tempfile::tempdir().unwrap();
-    let with = ring(1.0e-6, "[analysis.dispersal]\ntimes = [1.0e-6]\n");
-    refused_everywhere(&with, 2, &dir.path().join("a"), "[analysis.dispersal]");
+    let bare = example_in("xue2019", "charge_only.toml");
+    refused_everywhere(&bare, 2, &dir.path().join("a"), "a charge without [ring]");
     let bad = ring(1.0e-6, "[parallel]\nranks = [3, 1]\n");
     refused_everywhere(&bad, 2, &dir.path().join("b"), "parallel.ranks = [3, 1]");
 }

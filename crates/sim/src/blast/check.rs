@@ -80,7 +80,8 @@ pub fn size(s: &Scenario, src: &Source) -> (u64, u64) {
     (clamp(particles), clamp(elements))
 }
 
-fn memory(particles: u64, elements: u64) -> u64 {
+/// The memory (bytes) of a run of `particles` grains and a charge of `elements`.
+pub fn memory(particles: u64, elements: u64) -> u64 {
     particles
         .saturating_mul(BYTES_PER_PARTICLE)
         .saturating_add(elements.saturating_mul(BYTES_PER_ELEMENT))

@@ -363,29 +363,28 @@ impl Simulation for Blast {
 }
 
 impl Dispersing for Blast {
+    /// Every grain of every rank in ascending id (on ranks a collective: every rank
+    /// calls it at the same point).
     fn dispersal_frame(&self) -> Frame {
-        let v = self.particles();
+        let mut f = match (&self.ring, &self.ranks) {
+            (Some(_), Some(rp)) => {
+                let dec = &rp.part.dec;
+                grains::frame(rp.setup(), &rp.part.local, dec, &|i| dec.owns(i))
+            }
+            (Some(r), None) => grains::frame(&r.setup, &r.state, &grains_dem::Serial, &|_| true),
+            (None, _) => Frame::default(),
+        };
+        f.time = self.charge.time;
+        // As a finished run's analysis reads it from the mesh's frame.
         let c = self.centre;
-        Frame {
-            time: self.charge.time,
-            id: v.id.to_vec(),
-            pos: v.pos.to_vec(),
-            vel: v.vel.to_vec(),
-            radius: v.radius.into_owned(),
-            mass: v.mass.into_owned(),
-            stress: self
-                .ring
-                .as_ref()
-                .map(|r| grains_dem::stress::particle_stress(&r.setup, &r.state)),
-            // As a finished run's analysis reads it from the mesh's frame.
-            charge_radius: Some(
-                self.charge
-                    .nodes
-                    .pos
-                    .iter()
-                    .map(|p| (*p - c).length())
-                    .fold(0.0, f64::max),
-            ),
-        }
+        f.charge_radius = Some(
+            self.charge
+                .nodes
+                .pos
+                .iter()
+                .map(|p| (*p - c).length())
+                .fold(0.0, f64::max),
+        );
+        f
     }
 }

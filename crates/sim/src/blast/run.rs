@@ -156,13 +156,18 @@ struct Watchers {
 
 impl Watchers {
     fn list(&mut self) -> Vec<&mut dyn Observer<Blast>> {
-        let mut o: Vec<&mut dyn Observer<Blast>> = vec![&mut self.history, &mut self.frames];
+        let mut o: Vec<&mut dyn Observer<Blast>> = Vec::new();
+        // First: on ranks it reads its frames from every rank, so every rank must reach
+        // it, whichever observer after it fails on one rank (the failure is shared
+        // after the observers ran).
+        if let Some(d) = self.dispersal.as_mut() {
+            o.push(d);
+        }
+        o.push(&mut self.history);
+        o.push(&mut self.frames);
         if let Some((snaps, last)) = self.maps.as_mut() {
             o.push(snaps);
             o.push(last);
-        }
-        if let Some(d) = self.dispersal.as_mut() {
-            o.push(d);
         }
         o
     }
@@ -182,20 +187,14 @@ pub fn open(
 /// Why `s` cannot run on several ranks yet, as one line naming what and what is
 /// allowed; `None` when it can.
 pub fn unsupported(s: &Scenario) -> Option<String> {
-    if s.ring.is_none() {
-        return Some(not_on_ranks(
-            "a charge without [ring]",
-            "a [ring], or 1 rank",
-        ));
-    }
-    if s.analysis.dispersal.is_some() {
-        // Its fields read every grain at every sample.
-        return Some(not_on_ranks(
-            "[analysis.dispersal]",
-            "no [analysis.dispersal] table (analyse the run afterwards: grains analyze RUN_DIR), or 1 rank",
-        ));
-    }
-    None
+    // The charge alone is a few thousand elements with nothing to spread: every rank
+    // would step the same charge.
+    s.ring.is_none().then(|| {
+        not_on_ranks(
+            "a charge without [ring] (nothing to spread over ranks)",
+            "run it on 1 rank (grains run, without mpirun), or add a [ring]",
+        )
+    })
 }
 
 /// [`open`] on one of several ranks, `link` carrying the messages (`None`: one rank):
@@ -307,7 +306,11 @@ pub fn open_on(
     };
     let dispersal = dispersal.map(|d| {
         let centre = d.centre.map_or(sim.centre, glam::DVec2::from);
-        DispersalObserver::new(&s.name, d, centre, s.run.duration, &out)
+        if leader {
+            DispersalObserver::new(&s.name, d, centre, s.run.duration, &out)
+        } else {
+            DispersalObserver::follower(d, s.run.duration)
+        }
     });
     let mut watchers = Watchers {
         history,
@@ -440,8 +443,9 @@ impl Live for BlastRun {
         );
         if let Some(rp) = &sim.ranks {
             // Of this segment of the run (a resumed run counts afresh).
-            counts.insert("rank_imbalance".into(), rp.part.dec.imbalance().into());
-            counts.insert("rebalances".into(), rp.part.dec.rebalances().into());
+            let dec = &rp.part.dec;
+            crate::ranks::count_balance(&mut counts, dec.imbalance(), dec.rebalances());
+            rp.part.comm().insert_into(&mut counts);
         }
         if let Some(r) = &sim.ring {
             // The particles' own fingerprint, comparable with a DEM run's.

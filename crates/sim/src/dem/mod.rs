@@ -13,7 +13,6 @@ pub mod records;
 pub mod rest;
 pub mod run;
 pub mod scenario;
-pub mod spread;
 
 use crate::dispersal::{Dispersing, Frame};
 use crate::driver::{Clock, FrameKind, ParticleView, Simulation};

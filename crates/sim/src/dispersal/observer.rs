@@ -1,6 +1,7 @@
 //! The dispersal analysis as an observer of a run: at frames (fields written), at the
 //! chosen times (maps too) and every so often at samples (figures only); at the end the
-//! figures go under `dispersal` in the report.
+//! figures go under `dispersal` in the report. On several ranks every rank keeps the
+//! schedule and reads the frame (a collective), and rank 0 alone analyses and writes.
 
 use super::analyst::{Analyst, Frame, Layout, Writes};
 use super::settings::DispersalSettings;
@@ -16,7 +17,8 @@ pub trait Dispersing: Simulation {
 
 /// Runs the dispersal analysis during a run.
 pub struct DispersalObserver {
-    analyst: Analyst,
+    /// `None` on ranks other than 0, which only take part in reading the frames.
+    analyst: Option<Analyst>,
     every_frame: bool,
     times: Vec<f64>,
     next_time: usize,
@@ -35,16 +37,27 @@ impl DispersalObserver {
         duration: f64,
         out: &Path,
     ) -> Self {
+        let analyst = Analyst::new(
+            name,
+            settings.spec(),
+            centre,
+            settings.trace_time(duration),
+            Layout::under(out),
+        );
+        Self::with(Some(analyst), settings, duration)
+    }
+
+    /// The observer of a rank other than 0: it reads the frames at the times rank 0's
+    /// analyses them (each read gathers from every rank), and analyses nothing.
+    pub fn follower(settings: &DispersalSettings, duration: f64) -> Self {
+        Self::with(None, settings, duration)
+    }
+
+    fn with(analyst: Option<Analyst>, settings: &DispersalSettings, duration: f64) -> Self {
         let mut times = settings.times.clone();
         times.sort_by(f64::total_cmp);
         DispersalObserver {
-            analyst: Analyst::new(
-                name,
-                settings.spec(),
-                centre,
-                settings.trace_time(duration),
-                Layout::under(out),
-            ),
+            analyst,
             every_frame: settings.every_frame(),
             times,
             next_time: 0,
@@ -56,12 +69,21 @@ impl DispersalObserver {
 
     /// Times analysed so far.
     pub fn analysed(&self) -> usize {
-        self.analyst.analysed()
+        self.analyst.as_ref().map_or(0, Analyst::analysed)
     }
 
     /// Wall-clock seconds spent analysing.
     pub fn seconds(&self) -> f64 {
-        self.analyst.seconds()
+        self.analyst.as_ref().map_or(0.0, Analyst::seconds)
+    }
+
+    /// Reads `sim`'s frame (on every rank) and analyses it (on rank 0).
+    fn analyse<S: Dispersing>(&mut self, sim: &S, writes: Writes) -> anyhow::Result<()> {
+        let frame = sim.dispersal_frame();
+        match self.analyst.as_mut() {
+            Some(a) => a.analyse(&frame, writes),
+            None => Ok(()),
+        }
     }
 }
 
@@ -74,8 +96,7 @@ impl<S: Dispersing> Observer<S> for DispersalObserver {
             while self.next_every <= t {
                 self.next_every += dt;
             }
-            self.analyst
-                .analyse(&sim.dispersal_frame(), Writes::default())?;
+            self.analyse(sim, Writes::default())?;
         }
         Ok(Flow::Continue)
     }
@@ -93,16 +114,15 @@ impl<S: Dispersing> Observer<S> for DispersalObserver {
         let last = kind == FrameKind::Final || t >= self.end * (1.0 - 1e-9);
         let maps = chosen || (self.times.is_empty() && last);
         if self.every_frame || maps {
-            self.analyst
-                .analyse(&sim.dispersal_frame(), Writes { fields: true, maps })?;
+            self.analyse(sim, Writes { fields: true, maps })?;
         }
         Ok(())
     }
 
     fn on_end(&mut self, _sim: &S, _status: &Status, report: &mut Report) -> anyhow::Result<()> {
-        report
-            .figures
-            .insert("dispersal".into(), self.analyst.finish()?);
+        if let Some(a) = self.analyst.as_mut() {
+            report.figures.insert("dispersal".into(), a.finish()?);
+        }
         Ok(())
     }
 }

@@ -4,6 +4,7 @@
 //! itself is (`dem::ranks` over `grains_dem`, `dem3d::ranks` over `grains_dem3d`).
 
 pub mod comm;
+pub mod spread;
 
 use crate::driver::{agreed, Counters, Outcome, Plan, Simulation};
 use crate::frames::{FrameRecorder, Framed};
@@ -25,6 +26,21 @@ impl<T: Reduce + Post + Send> Transport for T {}
 
 /// A transport chosen at run time.
 pub struct Link(pub Box<dyn Transport>);
+
+/// What one rank holds of a decomposed start ([`spread`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Held {
+    /// Ranks along each axis.
+    pub dims: Vec<usize>,
+    /// The rank's box in the grid.
+    pub cell: Vec<usize>,
+    /// Particles it owns.
+    pub owned: usize,
+    /// Copies of its neighbours' particles within 2 r_max + skin of its box.
+    pub ghosts: usize,
+    /// Bytes it sends in each step's ghost refresh until the first rebuild.
+    pub ghost_bytes_per_step: u64,
+}
 
 /// The imbalance (most particles on a rank over the mean) past which the cuts move when
 /// `[parallel] balance` is not given.

@@ -13,7 +13,7 @@ use super::engine::decomp::traffic::Totals;
 use super::engine::decomp::{Decomposed, GridError};
 use super::engine::diagnostics::Diagnostics;
 use super::engine::math::DIM;
-use super::engine::{step_on, Hooks, NoHooks, Reduce, Setup, State};
+use super::engine::{step_on, Exchange, Hooks, NoHooks, Reduce, Setup, State};
 use crate::ranks::comm::{Comm, PerStep};
 use crate::ranks::Link;
 use serde::{Deserialize, Serialize};
@@ -215,6 +215,21 @@ impl Part {
     /// The state hash over every rank at the last gather (the serial run's).
     pub fn hash(&self) -> u64 {
         self.hash
+    }
+
+    /// What this rank holds: its box, its own particles and ghosts, and its ghost
+    /// refresh per step (`grains check --ranks N`).
+    pub fn held(&self) -> crate::ranks::Held {
+        let held = self.local.particles.len();
+        let owned = self.dec.owned(&self.local.particles);
+        let grid = self.dec.grid();
+        crate::ranks::Held {
+            dims: grid.dims.to_vec(),
+            cell: grid.coords(self.rank()).to_vec(),
+            owned,
+            ghosts: held - owned,
+            ghost_bytes_per_step: self.dec.ghost_bytes_per_step(),
+        }
     }
 
     /// This rank's own particles (not its ghosts), as indices into `local`.
