@@ -7,7 +7,7 @@
 //! followed by `=` and the sweep's name in the legend (default: the file's stem).
 //!
 //! `cargo run -p grains-sim --example silo_beverloo --
-//! "docs/figures/silo_beverloo_full.csv=40 mm silo" "docs/figures/silo_beverloo.csv=25 mm silo"`
+//! "docs/figures/silo_beverloo_full.csv=40 mm silo (silo.toml)" "docs/figures/silo_beverloo.csv=25 mm silo (silo_small widened)"`
 
 use grains_core::plot::{LinePlot, Series};
 use std::path::{Path, PathBuf};
