@@ -27,6 +27,9 @@ pub struct Particles {
     pub force: Vec<Vector>,
     /// Total torque of the last force evaluation.
     pub torque: Vec<AngVector>,
+    /// Each particle's running energy ledger while the ledger is kept (empty without:
+    /// [`crate::ledger_sums`]).
+    pub ledger: Vec<crate::ledger_sums::LedgerRow>,
 }
 
 impl Particles {
@@ -65,6 +68,9 @@ impl Particles {
         self.material.push(material);
         self.force.push(Vector::ZERO);
         self.torque.push(AngVector::default());
+        if !self.ledger.is_empty() {
+            self.ledger.push(Default::default());
+        }
     }
 
     /// Mass of particle `i`.
@@ -89,6 +95,9 @@ impl Particles {
         apply(&mut self.material, perm);
         apply(&mut self.force, perm);
         apply(&mut self.torque, perm);
+        if !self.ledger.is_empty() {
+            apply(&mut self.ledger, perm);
+        }
     }
 
     /// Largest radius (0 when empty).
