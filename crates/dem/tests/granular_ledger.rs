@@ -100,7 +100,7 @@ fn energy(setup: &Setup, s: &State) -> f64 {
         .filter(|&i| p.material[i] == 0)
         .map(|i| -p.mass(i) * setup.gravity.dot(p.pos[i]))
         .sum();
-    measure(setup, s).kinetic() + potential + dem::ledger_sums::figures(&s).unwrap().stored()
+    measure(setup, s).kinetic() + potential + dem::ledger_sums::figures(s).unwrap().stored()
 }
 
 /// Runs `p` for `duration` at `dt` with the ledger on and measures its closure.

@@ -115,7 +115,7 @@ fn energy(setup: &Setup, s: &State) -> f64 {
     let potential: f64 = (0..p.len())
         .map(|i| -p.mass(i) * setup.gravity.dot(p.pos[i] - setup.domain.lo))
         .sum();
-    measure(setup, s).kinetic() + potential + dem::ledger_sums::figures(&s).unwrap().stored()
+    measure(setup, s).kinetic() + potential + dem::ledger_sums::figures(s).unwrap().stored()
 }
 
 /// Runs `p` for `duration` at `dt` with the ledger on, the walls moving, and measures

@@ -62,12 +62,13 @@ fn is_the_serial_run(src: &Source, runs: &[(usize, Option<&str>)]) {
         assert_eq!(leader.summary.frames, serial.summary.frames, "{what}");
         assert_eq!(leader.summary.figures, serial.summary.figures, "{what}");
         // The energy ledger's sums, when it is kept: nothing per step, one fixed sum of
-        // 19 exact sums (71 words each) when a sample or a gather asks for the figures;
-        // none on one rank (docs/parallel.md, "Past this machine").
+        // 19 exact sums (71 words each) when a history sample or a gather asks for the
+        // figures, whatever the sphere count; none on one rank (docs/parallel.md, "Past
+        // this machine").
         let ledger = &leader.summary.counts["comm"]["per_rank_and_step"]["ledger"];
         let calls = ledger["collectives"].as_f64().unwrap();
         assert!(
-            (n == 1 && calls == 0.0) || (n > 1 && calls < 0.5),
+            (n == 1 && calls == 0.0) || (n > 1 && calls <= 1.0),
             "{what}: {calls} ledger sums a step"
         );
         if calls > 0.0 {
