@@ -264,7 +264,7 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             (k >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         };
-        let per: usize = if math::DIM == 2 { 6 } else { 4 };
+        let per: usize = 6;
         for c in 0..per.pow(math::DIM as u32) {
             let (mut at, mut v, mut idx) = (Vector::ZERO, Vector::ZERO, c);
             for a in 0..math::DIM {
