@@ -2,7 +2,8 @@
 """What grains sends between ranks, measured on 1-8 ranks and extrapolated to 64
 (docs/parallel.md, "Past this machine"). Python 3 standard library only.
 
-    python3 bench/comm_scale.py measure --grains BIN [--out DIR]
+    python3 bench/comm_scale.py measure --grains BIN [--out DIR] [--only 2d|3d]
+                                        [--ranks 1,2,4,8]
         2D: `mpirun -np N grains bench dem --lammps-data bed_20000.data --tile T`
         (weak: 30 k disks per rank; strong: 120 k disks), 3D: `mpirun -np N grains run`
         of a sphere lattice, 8 k spheres per rank (weak) and 32 k in all (strong);
@@ -122,16 +123,20 @@ def run_3d(grains, out, ranks, cells, duration):
 
 def measure(args):
     os.makedirs(args.out, exist_ok=True)
+    ranks = [int(r) for r in args.ranks.split(",")]
     res = {"weak2d": [], "strong2d": [], "weak3d": [], "strong3d": []}
-    for n, tile in [(1, 2), (2, 3), (4, 6), (8, 12)]:
-        res["weak2d"].append(dict(ranks=n, **bench_2d(args.grains, args.bed, n, tile, args.steps)))
-    for n in [1, 2, 4, 8]:
-        res["strong2d"].append(dict(ranks=n, **bench_2d(args.grains, args.bed, n, 6, args.steps)))
-    weak = {1: (1, 1, 1), 2: (2, 1, 1), 4: (2, 2, 1), 8: (2, 2, 2)}
-    for n, cells in weak.items():
-        res["weak3d"].append(dict(ranks=n, **run_3d(args.grains, args.out, n, cells, args.duration)))
-    for n in [1, 2, 4, 8]:
-        res["strong3d"].append(dict(ranks=n, **run_3d(args.grains, args.out, n, (2, 2, 1), args.duration)))
+    if args.only in (None, "2d"):
+        tiles = {1: 2, 2: 3, 4: 6, 8: 12}
+        for n in ranks:
+            res["weak2d"].append(dict(ranks=n, **bench_2d(args.grains, args.bed, n, tiles[n], args.steps)))
+        for n in ranks:
+            res["strong2d"].append(dict(ranks=n, **bench_2d(args.grains, args.bed, n, 6, args.steps)))
+    if args.only in (None, "3d"):
+        weak = {1: (1, 1, 1), 2: (2, 1, 1), 4: (2, 2, 1), 8: (2, 2, 2)}
+        for n in ranks:
+            res["weak3d"].append(dict(ranks=n, **run_3d(args.grains, args.out, n, weak[n], args.duration)))
+        for n in ranks:
+            res["strong3d"].append(dict(ranks=n, **run_3d(args.grains, args.out, n, (2, 2, 1), args.duration)))
     path = os.path.join(args.out, "measured.json")
     with open(path, "w") as f:
         json.dump(res, f, indent=1)
@@ -198,8 +203,10 @@ def tables(res):
 # ghost sent whole at a rebuild (every field: `decomp::words::put_particle`).
 MOTION = {2: 8 * 8, 3: 15 * 8}
 WHOLE = {2: 13 * 8, 3: 22 * 8}
-# The ledger's record per owned particle (id and 17 terms), gathered twice a step.
-LEDGER = 2 * 18 * 8
+# The energy ledger: each particle keeps its own running ledger, and the ranks sum
+# their particles' exactly (19 exact sums of 71 words each, from every rank) only when
+# the figures are asked for: a history sample (or a gather).
+LEDGER_SUM = 19 * 71 * 8
 # The step's other collectives (measured on the 2D bed, one wall: 7 a step, 1,808 B
 # from each rank, the wall loads' exact sums 1,704 of them).
 REDUCTIONS, REDUCTION_BYTES = 7, 1808
@@ -210,7 +217,7 @@ NETS = {"100 Gb/s InfiniBand": (12.5e9, 1.5e-6), "10 GbE": (1.25e9, 20e-6)}
 # xue-2019 test 1 (BENCHMARKS.md, "Test 1 at full size"): disks, steps to 100 us, list
 # builds with the expanding frame, wall time on 2 idle cores (s), the annulus (m).
 T1 = dict(n=1_803_137, steps=114_118, builds=3_098, wall=(8_700, 9_400),
-          r_in=0.010, r_out=0.030, d0=38.4e-6)
+          r_in=0.010, r_out=0.030, d0=38.4e-6, samples=500)
 # The halo of a ring in mean diameters: 2 r_max + skin, r_max = d0 (1 + 3 delta) / 2,
 # skin = d0 / 2 (blast/assemble.rs).
 T1_HALO = (1 + 3 * 0.113) + 0.5
@@ -277,13 +284,14 @@ def allgather(p, bytes_each, bw, lat):
 
 
 def step_time(p, n_rank, ghosts, neighbours, n_total, c, bw, lat, ledger=True,
-              steps_per_build=None, dim=2):
+              steps_per_build=None, dim=2, samples_per_step=0.0):
     """Seconds one step takes on the busiest rank: compute, the ghost refresh, the
-    step's collectives, the ledger's two gathers, a rebuild's share."""
+    step's collectives, the ledger's sums at samples (spread over the steps), a
+    rebuild's share."""
     t = {"compute": c * (n_rank + ghosts)}
     t["ghosts"] = neighbours * lat + MOTION[dim] * ghosts / bw
     t["reductions"] = REDUCTIONS * allgather(p, REDUCTION_BYTES / REDUCTIONS, bw, lat)
-    t["ledger"] = 2 * allgather(p, LEDGER / 2 * n_total / p, bw, lat) if ledger else 0.0
+    t["ledger"] = samples_per_step * allgather(p, LEDGER_SUM, bw, lat) if ledger else 0.0
     if steps_per_build:
         t["rebuild"] = (2 * neighbours * lat + WHOLE[dim] * ghosts / bw) / steps_per_build
     return t
@@ -325,7 +333,8 @@ def model(args):
             for ledger in [True, False]:
                 for cc in c:
                     t = step_time(cores, owned, ghosts, 8, n, cc * CLASSIC_COMPUTE, bw, lat,
-                                  ledger=ledger, steps_per_build=steps / (T1["builds"] * CLASSIC_BUILDS))
+                                  ledger=ledger, steps_per_build=steps / (T1["builds"] * CLASSIC_BUILDS),
+                                  samples_per_step=T1["samples"] / steps)
                     total = sum(t.values()) * steps
                     parts = ", ".join(f"{k} {v * 1e3:.3f}" for k, v in t.items())
                     say(f"  {net}, ledger {'on ' if ledger else 'off'}, c {cc * 1e9:.0f} ns: "
@@ -342,6 +351,8 @@ def main():
     m.add_argument("--steps", type=int, default=1000)
     m.add_argument("--duration", type=float, default=0.007, help="3D run length (s)")
     m.add_argument("--out", default="runs/comm_scale")
+    m.add_argument("--only", choices=["2d", "3d"], help="one dimension's runs only")
+    m.add_argument("--ranks", default="1,2,4,8", help="rank counts (of 1, 2, 4, 8)")
     t = sub.add_parser("tables")
     t.add_argument("measured")
     o = sub.add_parser("model")

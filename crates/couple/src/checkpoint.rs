@@ -13,7 +13,8 @@ use grains_core::snapshot::{
     get_f64, get_f64_exact, get_u32, get_u64_exact, get_vec2_exact, put_f64, put_u32, put_u64,
     put_vec2, SnapshotError,
 };
-use grains_dem::EnergyLedger;
+use grains_dem::ledger::LEDGER_WORDS;
+use grains_dem::LedgerSums;
 use std::io::{self, Read, Write};
 
 /// Writes the ring.
@@ -48,21 +49,17 @@ pub fn write(ring: &Ring, w: &mut impl Write) -> io::Result<()> {
     put_u32(w, &c.apex)?;
     put_f64(w, &c.node_length)?;
     put_vec2(w, &[ring.grid_box.0, ring.grid_box.1])?;
+    // The ledger: the exact sums of what left the run (their words' bits as numbers),
+    // then every grain's running ledger in ascending id, so that a resumed ring's
+    // ledger goes on as the straight run's, bit for bit.
     let ledger: Vec<f64> = ring
         .state
         .ledger
         .as_ref()
-        .map(|l| {
-            vec![
-                l.damping,
-                l.friction,
-                l.springs_released,
-                l.stored_normal,
-                l.stored_tangential,
-            ]
-        })
+        .map(|l| l.to_words().into_iter().map(f64::from_bits).collect())
         .unwrap_or_default();
-    put_f64(w, &ledger)
+    put_f64(w, &ledger)?;
+    put_f64(w, &grains_dem::ledger_sums::rows_by_id(&ring.state))
 }
 
 /// Reads a snapshot written by [`write`] into `ring`, a ring made from the same
@@ -123,12 +120,29 @@ pub fn read_into(
     }
     let node_length = get_f64_exact(r, lengths, "initial edge lengths")?;
     let grid_box = get_vec2_exact(r, 2, "grid box")?;
-    let ledger = get_f64(r, 5)?;
-    if !matches!(ledger.len(), 0 | 5) {
-        return Err(SnapshotError::Invalid(format!(
-            "energy ledger: {} values, expected 0 or 5",
-            ledger.len()
-        )));
+    let ledger = get_f64(r, LedgerSums::WORDS)?;
+    let departed = match ledger.len() {
+        0 => None,
+        n => Some(
+            LedgerSums::from_words(&ledger.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+                .ok_or_else(|| {
+                    SnapshotError::Invalid(format!(
+                        "energy ledger: {n} values, expected 0 or {}{}",
+                        LedgerSums::WORDS,
+                        if n == 5 {
+                            " (written by an older build, before each grain kept its own \
+                             ledger: it cannot go on; start the run again)"
+                        } else {
+                            ""
+                        }
+                    ))
+                })?,
+        ),
+    };
+    let mut state = state;
+    if departed.is_some() {
+        let rows = get_f64(r, LEDGER_WORDS * state.particles.len())?;
+        grains_dem::ledger_sums::read_rows(&mut state, &rows).map_err(SnapshotError::Invalid)?;
     }
 
     let c = &mut ring.coupling;
@@ -147,14 +161,6 @@ pub fn read_into(
     c.deepest = None;
     ring.grid_box = (grid_box[0], grid_box[1]);
     ring.state = state;
-    ring.state.ledger = (ledger.len() == 5).then(|| EnergyLedger {
-        damping: ledger[0],
-        friction: ledger[1],
-        springs_released: ledger[2],
-        stored_normal: ledger[3],
-        stored_tangential: ledger[4],
-        // The ring's grains are under the linear law: its other terms are zero.
-        ..Default::default()
-    });
+    ring.state.ledger = departed;
     Ok(())
 }

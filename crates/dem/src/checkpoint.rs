@@ -156,6 +156,8 @@ pub fn read(r: &mut impl Read, max_particles: usize) -> Result<State, SnapshotEr
         material: Vec::new(),
         force: Vec::new(),
         torque: Vec::new(),
+        // The running ledgers ride in the caller's tail ([`crate::ledger_sums`]).
+        ledger: Vec::new(),
     };
     p.material = get_u32(r, n)?
         .into_iter()

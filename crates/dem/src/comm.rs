@@ -42,10 +42,10 @@ pub trait Reduce {
         words
     }
 
-    /// [`Reduce::gather`] of per-particle rows (the energy ledger's), apart so that a
-    /// transport can count what grows with the particles apart from the rest.
-    fn gather_rows(&self, words: Vec<u64>) -> Vec<u64> {
-        self.gather(words)
+    /// [`Reduce::sum_u64`] of the energy ledger's exact sums, apart so that a
+    /// transport can count the ledger's cost apart from the rest.
+    fn sum_ledger(&self, values: &mut [u64]) {
+        self.sum_u64(values)
     }
 
     /// Element-wise minimum over the ranks.

@@ -1,10 +1,9 @@
 //! The contact law (one function for particle pairs and walls) and the pair pass.
 
-use crate::comm::{Reduce, Serial};
 use crate::contact::{PairParams, PairTable};
 use crate::domain::Image;
 use crate::law::{Contact, ContactLaw, LedgerTerms, Prior};
-use crate::ledger::{EnergyLedger, Off, On, PassTally, Tally};
+use crate::ledger::{Off, On, PassTally, Tally};
 use crate::math::{self, AngVector, Components, Tangent, TangentOps, Vector, ANG, DIM, TAN};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
@@ -132,53 +131,34 @@ impl<L: ContactLaw<History = Tangent>> PairLookup for PairTable<L> {
 /// subtract from the partner in ascending owner id.
 /// A particle's force is so summed in an order of ids, the same for any thread count,
 /// rank count or storage order ([`ContactList`]).
-/// With a `ledger`, the energy the contacts dissipate in this pass is added to it
-/// (see [`crate::ledger`]); the forces are the same either way.
+/// With the `ledger`, the energy the contacts dissipate in this pass is added to each
+/// particle's running ledger (see [`crate::ledger_sums`]); the forces are the same
+/// either way.
 pub fn pair_contacts(
     setup: &Setup,
     p: &mut Particles,
     list: &mut ContactList,
     dt: f64,
-    ledger: Option<&mut EnergyLedger>,
-) {
-    pair_contacts_on(setup, p, list, dt, ledger, &Serial, |_| true);
-}
-
-/// [`pair_contacts`] on one rank of several, which `owns` some of the particles it
-/// stores (by index; the others are copies of another rank's). The ledger takes in each
-/// pair once, from the rank that owns its lower id: each particle's row (its pairs with
-/// higher ids, in ascending id) is summed, and the rows of every rank are added in
-/// ascending id of their particle, the serial run included, so the ledger is the same
-/// bit for bit on any rank count ([`crate::ledger::in_id_order`]).
-pub fn pair_contacts_on<R: Reduce + ?Sized>(
-    setup: &Setup,
-    p: &mut Particles,
-    list: &mut ContactList,
-    dt: f64,
-    ledger: Option<&mut EnergyLedger>,
-    reduce: &R,
-    owns: impl Fn(usize) -> bool,
+    ledger: bool,
 ) {
     let granular = setup.granular.as_ref();
-    match ledger {
-        None => match granular {
+    if !ledger {
+        match granular {
             Some(table) => crate::granular_pass::pair_contacts(setup, table, p, list, dt, None),
             None => dispatch::<Off>(setup, p, list, dt, &mut []),
-        },
-        Some(l) => {
-            let mut rows = std::mem::take(&mut list.ledger_rows);
-            rows.resize(p.len(), PassTally::default());
-            match granular {
-                Some(table) => {
-                    crate::granular_pass::pair_contacts(setup, table, p, list, dt, Some(&mut rows))
-                }
-                None => dispatch::<On>(setup, p, list, dt, &mut rows),
-            }
-            let pass = crate::ledger::in_id_order(&rows, &p.id, owns, reduce, &mut list.by_id);
-            list.ledger_rows = rows;
-            l.record(&pass);
         }
+        return;
     }
+    let mut rows = std::mem::take(&mut list.ledger_rows);
+    rows.resize(p.len(), PassTally::default());
+    match granular {
+        Some(table) => {
+            crate::granular_pass::pair_contacts(setup, table, p, list, dt, Some(&mut rows))
+        }
+        None => dispatch::<On>(setup, p, list, dt, &mut rows),
+    }
+    crate::ledger_sums::pair_pass(&mut p.ledger, &rows);
+    list.ledger_rows = rows;
 }
 
 /// The pass; with the ledger (`T`), each particle's row terms are left in `rows`.

@@ -35,6 +35,10 @@ pub fn insert(setup: &Setup, s: &mut State, new: &Particles) -> Range<u32> {
     // No contact force yet: they were placed clear of every other particle.
     p.force.resize(p.pos.len(), Default::default());
     p.torque.resize(p.pos.len(), Default::default());
+    if s.ledger.is_some() {
+        // Their running ledgers start empty: what they bring in is the caller's to book.
+        p.ledger.resize(p.pos.len(), Default::default());
+    }
 
     // The list is extended as if the new particles had been there at its build with no
     // neighbours, so that the rebuild carries every existing contact's history over.

@@ -39,6 +39,12 @@
 //! The pair pass computes the terms beside the forces, from the same values, in a
 //! version of the pass compiled for it ([`Tally`]): without the ledger the pass is the
 //! code it was, and with it the forces and the state are the same bit for bit.
+//!
+//! A run does not keep an [`EnergyLedger`] as it goes: each particle keeps its own
+//! running ledger (its row's terms added pass after pass, [`crate::ledger_sums`]), and
+//! the figures here are the exact sums of those over the particles (and the ranks),
+//! rounded, made only when a sample, the summary or a checkpoint asks. So the figures
+//! are the same bits on any rank count with nothing sent per step.
 
 use crate::granular::GranularParams;
 use crate::law::{ContactLaw, LedgerTerms};
@@ -146,15 +152,30 @@ impl EnergyLedger {
 
     /// A ledger started on `s`: nothing dissipated yet, its springs' energy stored;
     /// refused under a law that does not split its dissipation
-    /// ([`ContactLaw::LEDGER`]).
+    /// ([`ContactLaw::LEDGER`]). The sum of [`EnergyLedger::starting_rows`].
     pub fn starting(setup: &Setup, s: &State) -> Result<Self, LedgerRefused> {
+        let mut sums = crate::ledger_sums::LedgerSums::default();
+        for row in Self::starting_rows(setup, s)? {
+            sums.add(&row);
+        }
+        Ok(sums.figures())
+    }
+
+    /// Each particle's part of [`EnergyLedger::starting`], as its words
+    /// ([`EnergyLedger::to_words`]): the springs of its row (its pairs with higher ids)
+    /// and of its wall contacts.
+    pub fn starting_rows(
+        setup: &Setup,
+        s: &State,
+    ) -> Result<Vec<[f64; LEDGER_WORDS]>, LedgerRefused> {
         if setup.granular.is_some() && !GranularParams::LEDGER {
             return Err(LedgerRefused);
         }
         let p = &s.particles;
         let list = &s.contacts;
-        let mut l = EnergyLedger::default();
+        let mut rows = Vec::with_capacity(p.len());
         for i in 0..p.len() {
+            let mut l = EnergyLedger::default();
             for e in list.row[i] as usize..list.row[i + 1] as usize {
                 let j = list.nbr[e] as usize;
                 let (mi, mj) = (p.material[i] as usize, p.material[j] as usize);
@@ -178,9 +199,10 @@ impl EnergyLedger {
                     l.stored_twisting += st.twisting;
                 }
             }
+            l.walls = wall_springs(setup, s, i);
+            rows.push(l.to_words());
         }
-        l.walls = wall_springs(setup, s);
-        Ok(l)
+        Ok(rows)
     }
 
     /// Its numbers in a fixed order, for a checkpoint ([`EnergyLedger::from_words`]).
@@ -235,135 +257,48 @@ impl EnergyLedger {
             wall_work: w[18],
         }
     }
-
-    /// Takes in one pair pass.
-    pub(crate) fn record(&mut self, pass: &PassTally) {
-        self.springs_released += (self.stored_tangential - pass.tangential_before)
-            + (self.stored_rolling - pass.rolling_before)
-            + (self.stored_twisting - pass.twisting_before);
-        self.stored_normal = pass.normal;
-        self.stored_tangential = pass.tangential;
-        self.stored_rolling = pass.rolling;
-        self.stored_twisting = pass.twisting;
-        self.book(pass);
-    }
-
-    /// Adds a pass's dissipation and its changes without work.
-    fn book(&mut self, pass: &PassTally) {
-        self.damping += pass.damping;
-        self.friction += pass.friction;
-        self.damping_tangential += pass.damping_tangential;
-        self.rolling_damping += pass.rolling_damping;
-        self.rolling_friction += pass.rolling_friction;
-        self.twisting_damping += pass.twisting_damping;
-        self.twisting_friction += pass.twisting_friction;
-        self.softening += pass.softening;
-        self.lever += pass.lever;
-    }
-
-    /// Takes in one wall pass: its dissipation as a pair pass's, its springs kept in
-    /// [`EnergyLedger::walls`], the walls' work in `wall_work`.
-    pub(crate) fn record_walls(&mut self, pass: &PassTally) {
-        let w = &mut self.walls;
-        self.springs_released += (w.tangential - pass.tangential_before)
-            + (w.rolling - pass.rolling_before)
-            + (w.twisting - pass.twisting_before);
-        *w = Springs {
-            normal: pass.normal,
-            tangential: pass.tangential,
-            rolling: pass.rolling,
-            twisting: pass.twisting,
-        };
-        self.book(pass);
-        self.wall_work += pass.work;
-    }
 }
 
-/// The energy the wall contacts' springs of `s` hold (as `crate::diagnostics` counts
-/// them: a wall is flat, R_eff the particle's radius).
-fn wall_springs(setup: &Setup, s: &State) -> Springs {
+/// The energy particle `i`'s wall contacts' springs in `s` hold (as
+/// `crate::diagnostics` counts them: a wall is flat, R_eff the particle's radius).
+fn wall_springs(setup: &Setup, s: &State, i: usize) -> Springs {
     let p = &s.particles;
     let (list, nw) = (&s.contacts, setup.walls.len());
     let mut out = Springs::default();
-    for i in 0..p.len() {
-        for (w, wall) in setup.walls.iter().enumerate() {
-            let Some(t) = wall.shape.nearest(p.pos[i]) else {
-                continue;
-            };
-            let overlap = p.radius[i] - t.distance;
-            if overlap <= 0.0 {
-                continue;
-            }
-            let (mi, k) = (p.material[i] as usize, i * nw + w);
-            let wm = wall.material.map_or(mi, |m| m as usize);
-            let st = match &setup.granular {
-                Some(table) => {
-                    let h = list.wall_history.try_get(k).unwrap_or_default();
-                    table.get(mi, wm).stored_split(overlap, p.radius[i], &h)
-                }
-                None => {
-                    let xi = list.wall_shear.get(k).copied().unwrap_or_default();
-                    setup
-                        .pairs
-                        .get(mi, wm)
-                        .stored_split(overlap, p.radius[i], &xi)
-                }
-            };
-            out.normal += st.normal;
-            out.tangential += st.tangential;
-            out.rolling += st.rolling;
-            out.twisting += st.twisting;
+    for (w, wall) in setup.walls.iter().enumerate() {
+        let Some(t) = wall.shape.nearest(p.pos[i]) else {
+            continue;
+        };
+        let overlap = p.radius[i] - t.distance;
+        if overlap <= 0.0 {
+            continue;
         }
+        let (mi, k) = (p.material[i] as usize, i * nw + w);
+        let wm = wall.material.map_or(mi, |m| m as usize);
+        let st = match &setup.granular {
+            Some(table) => {
+                let h = list.wall_history.try_get(k).unwrap_or_default();
+                table.get(mi, wm).stored_split(overlap, p.radius[i], &h)
+            }
+            None => {
+                let xi = list.wall_shear.get(k).copied().unwrap_or_default();
+                setup
+                    .pairs
+                    .get(mi, wm)
+                    .stored_split(overlap, p.radius[i], &xi)
+            }
+        };
+        out.normal += st.normal;
+        out.tangential += st.tangential;
+        out.rolling += st.rolling;
+        out.twisting += st.twisting;
     }
     out
 }
 
-/// What one pair pass adds up, the law's [`LedgerTerms`] summed per particle (its row),
-/// then over the particles in ascending id ([`in_id_order`]).
+/// What one pass adds up: the law's [`LedgerTerms`] summed per particle (its row),
+/// then taken into the particles' exact sums ([`crate::ledger_sums`]).
 pub(crate) type PassTally = LedgerTerms;
-
-/// The pass's total from each stored particle's row terms `rows` (its pairs with higher
-/// ids): the rows of the particles this rank `owns`, gathered from every rank through
-/// `reduce` and added in ascending id, so that each pair counts once (on the rank that
-/// owns its lower id) and the sum is the same bit for bit on any rank count. On one rank
-/// the particles are taken in the order `by_id` (indices in ascending id, made when it
-/// is empty or of another length: a rebuild, which re-sorts the particles, clears it),
-/// with nothing gathered.
-pub(crate) fn in_id_order<R: crate::comm::Reduce + ?Sized>(
-    rows: &[PassTally],
-    id: &[u32],
-    owns: impl Fn(usize) -> bool,
-    reduce: &R,
-    by_id: &mut Vec<u32>,
-) -> PassTally {
-    let mut total = PassTally::default();
-    if reduce.ranks() == 1 {
-        if by_id.len() != id.len() {
-            *by_id = (0..id.len() as u32).collect();
-            by_id.sort_unstable_by_key(|&i| id[i as usize]);
-        }
-        for &i in by_id.iter() {
-            total += rows[i as usize];
-        }
-        return total;
-    }
-    let mut words = Vec::with_capacity((1 + WORDS) * rows.len());
-    for (i, r) in rows.iter().enumerate().filter(|&(i, _)| owns(i)) {
-        words.push(id[i] as u64);
-        words.extend(r.words().map(f64::to_bits));
-    }
-    let words = reduce.gather_rows(words);
-    let mut records: Vec<&[u64]> = words.chunks_exact(1 + WORDS).collect();
-    records.sort_unstable_by_key(|r| r[0]);
-    for r in records {
-        let mut w = [0.0; WORDS];
-        for (k, x) in w.iter_mut().enumerate() {
-            *x = f64::from_bits(r[1 + k]);
-        }
-        total += PassTally::from_words(w);
-    }
-    total
-}
 
 /// Numbers in an [`EnergyLedger`] ([`EnergyLedger::to_words`]).
 pub const LEDGER_WORDS: usize = 19;

@@ -57,9 +57,6 @@ pub struct ContactList {
     pub touch: Vec<u8>,
     /// How many entries touched at the last evaluation (the gather's choice of loop).
     pub touching: usize,
-    /// The particles' indices in ascending id, the order the energy ledger adds their
-    /// rows in (made when the ledger first needs it after a rebuild, which clears it).
-    pub by_id: Vec<u32>,
     /// The energy ledger's terms per particle row, kept from pass to pass.
     pub(crate) ledger_rows: Vec<crate::ledger::PassTally>,
     /// The entries in which particle j is the partner are
@@ -262,8 +259,6 @@ impl ContactList {
         self.touch = Vec::new();
         self.rev_entry = Vec::new();
         self.history = Histories::default();
-        // The particles are re-sorted below.
-        self.by_id.clear();
         if self.wall_shear.len() != n * nw {
             self.wall_shear = vec![Tangent::default(); n * nw];
         }

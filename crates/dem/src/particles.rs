@@ -27,6 +27,9 @@ pub struct Particles {
     pub force: Vec<Vector>,
     /// Total torque of the last force evaluation.
     pub torque: Vec<AngVector>,
+    /// Each particle's running energy ledger while the ledger is kept (empty without:
+    /// [`crate::ledger_sums`]).
+    pub ledger: Vec<crate::ledger_sums::LedgerRow>,
 }
 
 impl Particles {
@@ -65,6 +68,9 @@ impl Particles {
         self.material.push(material);
         self.force.push(Vector::ZERO);
         self.torque.push(AngVector::default());
+        if !self.ledger.is_empty() {
+            self.ledger.push(Default::default());
+        }
     }
 
     /// Mass of particle `i`.
@@ -89,10 +95,62 @@ impl Particles {
         apply(&mut self.material, perm);
         apply(&mut self.force, perm);
         apply(&mut self.torque, perm);
+        if !self.ledger.is_empty() {
+            permute_in_place(&mut self.ledger, perm);
+        }
     }
 
     /// Largest radius (0 when empty).
     pub fn max_radius(&self) -> f64 {
         self.radius.iter().copied().fold(0.0, f64::max)
+    }
+}
+
+/// Reorders `v` by `perm` (new index k holds old element `perm[k]`) along its cycles,
+/// without a second copy: the ledger's rows are the largest field, and a fresh one at
+/// every rebuild costs the kernel its pages again (measured: +1.1 s of system time on
+/// `ring_small_elastic`, 995 rebuilds of 17 k rows).
+fn permute_in_place<T: Copy>(v: &mut [T], perm: &[u32]) {
+    let mut done = vec![false; v.len()];
+    for start in 0..v.len() {
+        if done[start] {
+            continue;
+        }
+        let first = v[start];
+        let mut k = start;
+        loop {
+            done[k] = true;
+            let from = perm[k] as usize;
+            if from == start {
+                v[k] = first;
+                break;
+            }
+            v[k] = v[from];
+            k = from;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::permute_in_place;
+
+    #[test]
+    fn a_permutation_in_place_is_the_copying_one() {
+        let n = 1000u32;
+        // A permutation of several cycles (and fixed points) from an LCG.
+        let mut perm: Vec<u32> = (0..n).collect();
+        let mut x = 12345u64;
+        for i in (1..n as usize).rev() {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            perm.swap(i, (x >> 33) as usize % (i + 1));
+        }
+        let old: Vec<u64> = (0..n as u64).map(|k| k * 7 + 3).collect();
+        let want: Vec<u64> = perm.iter().map(|&p| old[p as usize]).collect();
+        let mut got = old.clone();
+        permute_in_place(&mut got, &perm);
+        assert_eq!(got, want);
     }
 }

@@ -6,9 +6,9 @@
 //! through `post_force`: the step itself is never copied to add them.
 
 use crate::comm::{Exchange, Reduce, Serial};
-use crate::forces::{pair_contacts, pair_contacts_on};
+use crate::forces::pair_contacts;
 use crate::integrate::{kick_drift, wall_loads, walls_gather_kick, Drift, WallLoad};
-use crate::ledger::EnergyLedger;
+use crate::ledger_sums::LedgerSums;
 use crate::math::Components;
 use crate::math::Vector;
 use crate::neighbours::ContactList;
@@ -29,8 +29,11 @@ pub struct State {
     pub time: f64,
     /// Steps taken.
     pub step: u64,
-    /// The contacts' energy ledger, kept while `Some` (see [`crate::ledger`]).
-    pub ledger: Option<EnergyLedger>,
+    /// The contacts' energy ledger, kept while `Some` (see [`crate::ledger_sums`]): each
+    /// particle's running ledger is in [`Particles::ledger`]; this holds the exact
+    /// sums of what particles that left the run took with them (none does yet: nothing
+    /// removes particles), carried by gathers and checkpoints.
+    pub ledger: Option<LedgerSums>,
     /// Where each wall has got to ([`crate::walls::advance_walls`]).
     pub walls: Vec<Pose>,
 }
@@ -45,7 +48,7 @@ impl State {
             ..Default::default()
         };
         s.contacts.rebuild(setup, &mut s.particles);
-        pair_contacts(setup, &mut s.particles, &mut s.contacts, 0.0, None);
+        pair_contacts(setup, &mut s.particles, &mut s.contacts, 0.0, false);
         let parts = walls_gather_kick(setup, &mut s.particles, &mut s.contacts, 0.0, 0.0, None);
         s.wall_loads = wall_loads(&parts, &crate::comm::Serial);
         s
@@ -127,30 +130,19 @@ pub fn step_on<H: Hooks, C: Exchange>(
     }
     let (change, displacement) = neighbours(setup, s, &drift, hooks, comm);
     hooks.post_neighbour(&s.particles, change, displacement);
-    let c: &C = comm;
-    pair_contacts_on(
-        setup,
-        &mut s.particles,
-        &mut s.contacts,
-        dt,
-        s.ledger.as_mut(),
-        c,
-        |i| c.owns(i),
-    );
+    let ledger = s.ledger.is_some();
+    pair_contacts(setup, &mut s.particles, &mut s.contacts, dt, ledger);
     hooks.post_force_on(&mut s.particles, &*comm);
-    let parts = match s.ledger.as_mut() {
-        None => walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt, None),
-        Some(l) => {
-            // The wall terms are added in ascending id, as the pairs' are.
+    let parts = match ledger {
+        false => walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt, None),
+        true => {
             let list = &mut s.contacts;
             let mut rows = std::mem::take(&mut list.ledger_rows);
             rows.resize(s.particles.len(), Default::default());
             let p = &mut s.particles;
             let loads = walls_gather_kick(setup, p, list, dt, 0.5 * dt, Some(&mut rows));
-            let c: &C = comm;
-            let pass = crate::ledger::in_id_order(&rows, &p.id, |i| c.owns(i), c, &mut list.by_id);
+            crate::ledger_sums::wall_pass(&mut p.ledger, &rows);
             list.ledger_rows = rows;
-            l.record_walls(&pass);
             loads
         }
     };

@@ -20,7 +20,7 @@ use closure::{at, converges, material, noise, placeholder, spin, Closure, RHO};
 use dem::diagnostics::measure;
 use dem::granular::{Damping, GranularParams, Normal, Rolling, Tangential};
 use dem::math::{AngVector, Components, Vector, DIM};
-use dem::{Domain, EnergyLedger, Hooks, PairTable, Particles, Setup, State};
+use dem::{Domain, Hooks, PairTable, Particles, Setup, State};
 
 /// Hertz with Tsuji damping at restitution `e`, tangential `t`, friction μ.
 fn hertz(youngs: f64, e: f64, t: Tangential, mu: f64) -> GranularParams {
@@ -100,7 +100,7 @@ fn energy(setup: &Setup, s: &State) -> f64 {
         .filter(|&i| p.material[i] == 0)
         .map(|i| -p.mass(i) * setup.gravity.dot(p.pos[i]))
         .sum();
-    measure(setup, s).kinetic() + potential + s.ledger.unwrap().stored()
+    measure(setup, s).kinetic() + potential + dem::ledger_sums::figures(s).unwrap().stored()
 }
 
 /// Runs `p` for `duration` at `dt` with the ledger on and measures its closure.
@@ -109,13 +109,13 @@ fn close(setup: &Setup, p: Particles, dt: f64, duration: f64) -> Closure {
     // The first half kick uses the set-up's forces, which no hook has seen.
     let mut held = Held { g: setup.gravity };
     held.post_force(&mut s.particles);
-    s.ledger = Some(EnergyLedger::starting(setup, &s).expect("the ledger is kept"));
+    dem::ledger_sums::start(setup, &mut s).expect("the ledger is kept");
     let start = energy(setup, &s);
     let steps = (duration / dt).round() as usize;
     for _ in 0..steps {
         dem::step_with(setup, &mut s, dt, &mut held);
     }
-    let l = s.ledger.unwrap();
+    let l = dem::ledger_sums::figures(&s).unwrap();
     // The ledger's springs are the diagnostics' (no walls here).
     let elastic = measure(setup, &s).elastic;
     assert!(

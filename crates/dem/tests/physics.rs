@@ -229,7 +229,7 @@ fn the_energy_ledger_accounts_for_the_loss() {
         let after = measure(&s, &st);
         assert_eq!(after.pair_contacts, 0, "the disks must have parted");
         let lost = before.kinetic() - after.kinetic();
-        let l = st.ledger.unwrap();
+        let l = grains_dem::ledger_sums::figures(&st).unwrap();
         assert!(lost > 0.1 * before.kinetic(), "{lost}");
         assert!(
             (l.total() - lost).abs() < 5e-3 * lost,

@@ -1,29 +1,27 @@
 //! The decomposition's message books (`decomp::traffic`) against what the exchange
 //! must send: a step's ghost refresh is 8 words per ghost to each neighbour holding it,
-//! the energy ledger gathers 1 + 17 words per owned particle twice a step, and the
-//! totals over the ranks count every ghost once.
+//! the energy ledger sends nothing while the run steps and a fixed number of words when
+//! its figures are asked for, and the totals over the ranks count every ghost once.
 
 use grains_dem::decomp::local::run_ranks;
 use grains_dem::decomp::traffic::Flow;
 use grains_dem::decomp::{words, Decomposed};
-use grains_dem::{step_on, EnergyLedger, Exchange, NoHooks, State};
+use grains_dem::{step_on, LedgerSums, NoHooks, State};
 
 #[path = "common/peer.rs"]
 mod peer;
 
-/// The ledger's record per owned particle: its id and 17 terms.
-const LEDGER_BYTES: u64 = 8 * 18;
-
 /// 600 disks springing apart on 2 × 1 and 2 × 2 ranks with the ledger on: every step
 /// without a rebuild sends exactly the ghost bytes the lists promise, in one message
-/// per neighbour, and gathers the ledger's rows twice; a rebuild's traffic goes to the
-/// rebuild's books.
+/// per neighbour, and nothing for the ledger, whose figures cost one sum of
+/// [`LedgerSums::WORDS`] words when asked; a rebuild's traffic goes to the rebuild's
+/// books.
 #[test]
 fn each_step_sends_what_the_ghost_lists_and_the_ledger_promise() {
     let (set, mut p) = peer::bed(600, 20);
     peer::squeeze(&mut p, 20);
     let mut whole = State::new(&set, p);
-    whole.ledger = Some(EnergyLedger::starting(&set, &whole).unwrap());
+    grains_dem::ledger_sums::start(&set, &mut whole).unwrap();
     let n = whole.particles.len() as u64;
     assert_eq!(words::MOTION_WORDS, 8, "x, y, vx, vy, ω, fx, fy, τ");
     for dims in [[2, 1], [2, 2]] {
@@ -36,16 +34,8 @@ fn each_step_sends_what_the_ghost_lists_and_the_ledger_promise() {
                 let (before, promised) = (d.traffic(), d.ghost_bytes_per_step());
                 let builds = s.contacts.builds;
                 step_on(&set, &mut s, 5e-4, &mut NoHooks, &mut d);
-                // After any migration: the particles the ledger's gathers saw.
-                let owned = d.owned(&s.particles) as u64;
                 let after = d.traffic();
-                let ledger = Flow {
-                    messages: 0,
-                    collectives: 2,
-                    sent: 2 * LEDGER_BYTES * owned,
-                    received: 2 * LEDGER_BYTES * n,
-                };
-                assert_eq!(diff(after.ledger, before.ledger), ledger);
+                assert_eq!(after.ledger, Flow::default());
                 assert_eq!(after.steps, before.steps + 1);
                 let ghosts = diff(after.ghosts, before.ghosts);
                 assert_eq!(ghosts.messages, d.neighbours() as u64);
@@ -60,6 +50,18 @@ fn each_step_sends_what_the_ghost_lists_and_the_ledger_promise() {
                 }
                 assert_eq!(ghosts.sent, d.ghost_bytes_per_step());
             }
+            let before = d.traffic();
+            let own = grains_dem::ledger_sums::sums(&s, |i| d.owns(i)).unwrap();
+            let l = own.total(&d).figures();
+            assert!(l.damping > 0.0);
+            let bytes = 8 * LedgerSums::WORDS as u64;
+            let ledger = Flow {
+                messages: 0,
+                collectives: 1,
+                sent: bytes,
+                received: bytes * ranks as u64,
+            };
+            assert_eq!(diff(d.traffic().ledger, before.ledger), ledger);
             let t = d.traffic_over_ranks(&s);
             let held = s.particles.len() as u64;
             (plain, rebuilt, t, held)

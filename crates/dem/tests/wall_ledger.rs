@@ -21,7 +21,7 @@ use closure::{at, converges, material, noise, placeholder, spin, Closure, RHO};
 use dem::diagnostics::measure;
 use dem::granular::{Damping, GranularParams, Normal, Rolling, Tangential};
 use dem::math::{AngVector, Components, Vector, DIM};
-use dem::{Domain, EnergyLedger, PairTable, Particles, Setup, State};
+use dem::{Domain, PairTable, Particles, Setup, State};
 use dem::{Wall, WallShape};
 
 /// Hertz (E = 1e7 Pa) with Tsuji damping at restitution `e`, Mindlin, friction `mu`;
@@ -115,7 +115,7 @@ fn energy(setup: &Setup, s: &State) -> f64 {
     let potential: f64 = (0..p.len())
         .map(|i| -p.mass(i) * setup.gravity.dot(p.pos[i] - setup.domain.lo))
         .sum();
-    measure(setup, s).kinetic() + potential + s.ledger.unwrap().stored()
+    measure(setup, s).kinetic() + potential + dem::ledger_sums::figures(s).unwrap().stored()
 }
 
 /// Runs `p` for `duration` at `dt` with the ledger on, the walls moving, and measures
@@ -123,14 +123,14 @@ fn energy(setup: &Setup, s: &State) -> f64 {
 fn close(setup: &Setup, p: Particles, dt: f64, duration: f64) -> Closure {
     let mut setup = setup.clone();
     let mut s = State::new(&setup, p);
-    s.ledger = Some(EnergyLedger::starting(&setup, &s).expect("the ledger is kept"));
+    dem::ledger_sums::start(&setup, &mut s).expect("the ledger is kept");
     let start = energy(&setup, &s);
     let steps = (duration / dt).round() as usize;
     for _ in 0..steps {
         dem::walls::advance_walls(&mut setup, &mut s, dt);
         dem::step(&setup, &mut s, dt);
     }
-    let l = s.ledger.unwrap();
+    let l = dem::ledger_sums::figures(&s).unwrap();
     // The ledger's springs, the walls' included, are the diagnostics'.
     let elastic = measure(&setup, &s).elastic;
     assert!(

@@ -96,8 +96,8 @@ pub trait Simulation: Send {
 /// Steps between two readings of the interrupt flag on a run spread over ranks. A
 /// signal reaches the ranks at different steps (or one rank only), so they read the
 /// flag together, through one all-gather of a word at these steps, and all stop at the
-/// same one. Beside the per-step exchanges (ghosts; the energy ledger, 6 words per
-/// particle) the cost is nil; a run on one rank reads its flag at every step.
+/// same one. Beside the per-step exchange of ghosts the cost is nil; a run on one rank
+/// reads its flag at every step.
 pub const AGREE_EVERY: u64 = 16;
 
 /// `r` as every rank of a run spread over ranks sees it. Rank 0 alone writes the

@@ -25,7 +25,7 @@ impl<C: Reduce + Post> Decomposed<C> {
         let rows = carried_of(setup, &s.contacts, p, &owned);
         let mut out = Vec::new();
         for i in (0..p.len()).filter(|&i| owned[i]) {
-            words::put_particle(&mut out, p, i);
+            words::put_particle(&mut out, p, i, true);
             words::put_history(&mut out, &rows[i]);
         }
         let all = self.during(Stage::Other, || self.comm.gather(out));

@@ -239,7 +239,14 @@ impl<C: Reduce + Post> Decomposed<C> {
             wall_loads: whole.wall_loads.clone(),
             // The walls' poses, which a checkpoint (written from the gathered state) holds.
             walls: whole.walls.clone(),
-            ledger: whole.ledger,
+            // The whole run's sums on one rank: the ranks' sums add up to them.
+            ledger: whole.ledger.as_ref().map(|l| {
+                if me == 0 {
+                    l.clone()
+                } else {
+                    Default::default()
+                }
+            }),
             time: whole.time,
             step: whole.step,
             ..Default::default()
@@ -313,7 +320,7 @@ impl<C: Reduce + Post> Decomposed<C> {
             }
             let w = &mut out[slot(&to, owner, me)];
             w[0] += 1;
-            words::put_particle(w, p, i);
+            words::put_particle(w, p, i, true);
             words::put_history(w, &rows[i]);
         }
         for got in self.swap(&to, out) {
@@ -331,7 +338,7 @@ impl<C: Reduce + Post> Decomposed<C> {
                 .collect();
             self.send_ids[k] = near.iter().map(|&i| local.id[i]).collect();
             for i in near {
-                words::put_particle(&mut out[k], &local, i);
+                words::put_particle(&mut out[k], &local, i, false);
             }
         }
         for (k, got) in self.swap(&self.neighbours, out).into_iter().enumerate() {
@@ -491,8 +498,8 @@ impl<C: Reduce> Reduce for Decomposed<C> {
         self.comm.gather(words)
     }
 
-    fn gather_rows(&self, words: Vec<u64>) -> Vec<u64> {
-        self.comm.gather_rows(words)
+    fn sum_ledger(&self, values: &mut [u64]) {
+        self.comm.sum_ledger(values)
     }
 }
 

@@ -14,7 +14,7 @@ use std::cell::Cell;
 /// Where in a run a message is sent.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
-    /// The step outside the exchange: the rebuild test, the wall loads, the ledger.
+    /// The step outside the exchange: the rebuild test, the wall loads.
     Step,
     /// The ghost refresh at the end of every step.
     Ghosts,
@@ -80,8 +80,9 @@ pub struct Traffic {
     /// asks between steps outside its outputs (the agreement every few steps, the
     /// disk-escape test's gather at samples).
     pub reductions: Flow,
-    /// The energy ledger's gathers of 1 + 17 words per owned particle (two a step: the
-    /// pair pass's rows and the walls').
+    /// The energy ledger's sums combined over the ranks: a fixed
+    /// [`crate::LedgerSums::WORDS`] words each time a sample, a gather or a checkpoint
+    /// asks for its figures, whatever the particle count; nothing per step.
     pub ledger: Flow,
     /// Outside the step: the start, the samples' figures, the state hash, whole-state
     /// gathers.
@@ -213,12 +214,12 @@ impl<C> Counted<C> {
         self.traffic.set(t);
     }
 
-    /// Adds `f` to the flow of the current stage (`ledger`: the ledger's gathers in a
-    /// step).
+    /// Adds `f` to the flow of the current stage (`ledger`: the ledger's, whatever the
+    /// stage).
     fn book(&self, ledger: bool, f: Flow) {
         let mut t = self.traffic.get();
         let flow = match self.stage.get() {
-            Stage::Step if ledger => &mut t.ledger,
+            _ if ledger => &mut t.ledger,
             Stage::Step => &mut t.reductions,
             Stage::Ghosts => &mut t.ghosts,
             Stage::Rebuild => &mut t.rebuild,
@@ -275,11 +276,9 @@ impl<C: Reduce> Reduce for Counted<C> {
         all
     }
 
-    fn gather_rows(&self, words: Vec<u64>) -> Vec<u64> {
-        let n = words.len();
-        let all = self.inner.gather_rows(words);
-        self.collective(true, n, all.len());
-        all
+    fn sum_ledger(&self, values: &mut [u64]) {
+        self.collective(true, values.len(), values.len() * self.ranks());
+        self.inner.sum_ledger(values);
     }
 }
 
@@ -318,8 +317,8 @@ mod tests {
             c.sum(&mut [0.0; 4]);
             c.any(true);
             c.gather(vec![0; r]);
-            c.gather_rows(vec![0; 2 * r]);
             c.enter(Stage::Rebuild);
+            c.sum_ledger(&mut [0; 5]);
             c.max(&mut [0.0]);
             c.tick(false);
             c.traffic()
@@ -342,11 +341,12 @@ mod tests {
                 received: 8 * (12 + 3 + 3),
             };
             assert_eq!(t.reductions, reductions, "rank {r}");
+            // Whatever the stage: 5 words each, back from 3 ranks.
             let ledger = Flow {
                 messages: 0,
                 collectives: 1,
-                sent: 16 * r as u64,
-                received: 8 * 6,
+                sent: 8 * 5,
+                received: 8 * 3 * 5,
             };
             assert_eq!(t.ledger, ledger, "rank {r}");
             let rebuild = Flow {

@@ -1,6 +1,7 @@
-//! A particle as the words a message carries: every field, bit for bit, and for a
-//! particle changing rank its wall springs and its (partner id, spring) rows (the
-//! granular law's whole histories likewise).
+//! A particle as the words a message carries: every field, bit for bit (its running
+//! energy ledger too, when it is kept), and for a particle changing rank its wall
+//! springs and its (partner id, spring) rows (the granular law's whole histories
+//! likewise).
 
 use crate::history::GranularHistory;
 use crate::math::{AngVector, Components, Tangent, Vector};
@@ -57,8 +58,9 @@ impl<'a> Reader<'a> {
     }
 }
 
-/// Appends particle `i`'s every field.
-pub fn put_particle(out: &mut Vec<u64>, p: &Particles, i: usize) {
+/// Appends particle `i`'s every field; its running ledger, if it has one, only with
+/// `ledger` (a ghost's is never summed: it gets an empty one).
+pub fn put_particle(out: &mut Vec<u64>, p: &Particles, i: usize, ledger: bool) {
     out.push(p.id[i] as u64);
     put(out, p.pos[i]);
     put(out, p.vel[i]);
@@ -66,10 +68,22 @@ pub fn put_particle(out: &mut Vec<u64>, p: &Particles, i: usize) {
     out.push(p.radius[i].to_bits());
     out.push(p.inv_mass[i].to_bits());
     out.push(p.inv_inertia[i].to_bits());
-    out.push(p.material[i] as u64);
+    // The material's word also says whether the ledger is kept and the row follows.
+    let row = p.ledger.get(i);
+    let flags =
+        (row.is_some() as u64) << LEDGER_KEPT | ((ledger && row.is_some()) as u64) << ROW_SENT;
+    out.push(p.material[i] as u64 | flags);
     put(out, p.force[i]);
     put(out, p.torque[i]);
+    if let Some(row) = row.filter(|_| ledger) {
+        out.extend(row.iter().map(|x| x.to_bits()));
+    }
 }
+
+/// The bits of [`put_particle`]'s material word saying that the energy ledger is kept
+/// and that the particle's running ledger follows.
+const LEDGER_KEPT: u32 = 32;
+const ROW_SENT: u32 = 33;
 
 /// Reads one particle written by [`put_particle`] onto the end of `p`.
 pub fn get_particle(r: &mut Reader, p: &mut Particles) {
@@ -80,9 +94,16 @@ pub fn get_particle(r: &mut Reader, p: &mut Particles) {
     p.radius.push(r.f64());
     p.inv_mass.push(r.f64());
     p.inv_inertia.push(r.f64());
-    p.material.push(r.word() as u16);
+    let material = r.word();
+    p.material.push(material as u16);
     p.force.push(r.get());
     p.torque.push(r.get());
+    if material >> ROW_SENT & 1 == 1 {
+        let row = std::array::from_fn(|_| r.f64());
+        p.ledger.push(row);
+    } else if material >> LEDGER_KEPT & 1 == 1 {
+        p.ledger.push(Default::default());
+    }
 }
 
 /// Appends particle `i` of `p` to `out`, every field.
@@ -97,6 +118,9 @@ pub fn copy_particle(p: &Particles, i: usize, out: &mut Particles) {
     out.material.push(p.material[i]);
     out.force.push(p.force[i]);
     out.torque.push(p.torque[i]);
+    if let Some(row) = p.ledger.get(i) {
+        out.ledger.push(*row);
+    }
 }
 
 /// Words [`put_motion`] writes per particle.

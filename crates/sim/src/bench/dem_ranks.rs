@@ -42,7 +42,7 @@ pub fn run_on(bed: &Bed, steps: u64, link: Link) -> Result<Option<Report>, Strin
         format!("{:.4}", (held[0] - held[1]) as f64 / held[1].max(1) as f64),
     );
     r.line("neighbour builds", s.contacts.builds);
-    // What the steps sent (the bench keeps no energy ledger: its gathers are absent).
+    // What the steps sent (the bench keeps no energy ledger).
     r.lines.extend(comm.lines());
     r.line(
         "contacts per particle",

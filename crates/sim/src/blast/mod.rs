@@ -96,6 +96,8 @@ pub struct BlastSample {
     pub ring: Option<RingFigures>,
     /// The ring's rotational kinetic energy (J/m), with the ledger.
     pub rotational: Option<f64>,
+    /// The grains' energy ledger's figures, with the ledger.
+    pub ledger: Option<grains_dem::EnergyLedger>,
 }
 
 impl Blast {
@@ -113,8 +115,7 @@ impl Blast {
                 if s.analysis.energy_ledger {
                     // The ring's law is the linear one (a 2D scenario has no other),
                     // whose ledger is never refused.
-                    let start = grains_dem::EnergyLedger::starting(&ring.setup, &ring.state);
-                    ring.state.ledger = start.ok();
+                    let _ = grains_dem::ledger_sums::start(&ring.setup, &mut ring.state);
                 }
                 (Some(ring), dt, rp.mean_diameter)
             }
@@ -276,13 +277,19 @@ impl Simulation for Blast {
     }
 
     fn sample(&mut self) -> BlastSample {
+        // The ledger's figures are made here only (on ranks, by every rank at once).
+        let ledger = match (&self.ranks, &self.ring) {
+            (Some(rp), _) => rp.part.ledger_figures(),
+            (None, Some(r)) => grains_dem::ledger_sums::figures(&r.state),
+            (None, None) => None,
+        };
         let grains = self.grains();
-        let ledger = self.ring.as_ref().is_some_and(|r| r.state.ledger.is_some());
         BlastSample {
             energies: energies(&self.fem, &self.charge),
             fronts: fronts(&self.charge),
             ring: grains.as_ref().map(|g| self.figures_of(g)),
-            rotational: grains.filter(|_| ledger).map(|g| g.rotational),
+            rotational: grains.filter(|_| ledger.is_some()).map(|g| g.rotational),
+            ledger,
         }
     }
 

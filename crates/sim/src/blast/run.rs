@@ -104,7 +104,7 @@ impl Recorded for Blast {
                 g.mean_velocity,
                 r.state.contacts.builds as f64,
             ]);
-            if let (Some(l), Some(rot)) = (&r.state.ledger, s.rotational) {
+            if let (Some(l), Some(rot)) = (&s.ledger, s.rotational) {
                 row.extend([rot, l.stored(), l.damping, l.friction, l.springs_released]);
             }
         }

@@ -16,7 +16,7 @@ use grains_core::plot::{LinePlot, Series};
 use grains_core::snapshot::{get_f64, put_f64, SnapshotError};
 use grains_dem3d::diagnostics::Diagnostics;
 use grains_dem3d::ledger::LEDGER_WORDS;
-use grains_dem3d::{EnergyLedger, State};
+use grains_dem3d::{EnergyLedger, LedgerSums, State};
 use serde_json::{json, Value};
 use std::io::{Read, Write};
 use std::path::Path;
@@ -66,7 +66,7 @@ fn residual(d: &Diagnostics, l: &EnergyLedger, b: &Books) -> f64 {
 
 /// The ledger's history row (in [`COLUMNS`] order).
 pub fn row(sim: &Dem3, d: &Diagnostics) -> Option<Vec<f64>> {
-    let (l, b) = (sim.state.ledger.as_ref()?, &sim.books);
+    let (l, b) = (sim.ledger.as_ref()?, &sim.books);
     let res = residual(d, l, b);
     Some(vec![
         l.stored(),
@@ -85,9 +85,11 @@ pub fn row(sim: &Dem3, d: &Diagnostics) -> Option<Vec<f64>> {
     ])
 }
 
-/// Starts the books of a run whose ledger has just started, with diagnostics `d`.
+/// Starts the books of a run whose ledger has just started (on the whole state), with
+/// diagnostics `d`.
 pub fn open(sim: &mut Dem3, d: &Diagnostics) {
-    if let Some(l) = &sim.state.ledger {
+    sim.ledger = grains_dem3d::ledger_sums::figures(&sim.state);
+    if let Some(l) = &sim.ledger {
         sim.books = Books {
             start: energy(d, l),
             poured: 0.0,
@@ -116,49 +118,62 @@ pub fn brought_in(sim: &Dem3, n: usize) -> f64 {
         .sum()
 }
 
-/// Appends the ledger and its books to a checkpoint's bytes (nothing without a ledger).
+/// Appends the ledger to a checkpoint's bytes (nothing without a ledger): the exact
+/// sums of what left the run (their words' bits as numbers) and the books, then every
+/// sphere's running ledger in ascending id. A resumed run's ledger goes on as the
+/// straight run's, bit for bit.
 pub fn write_tail(sim: &Dem3, w: &mut impl Write) -> std::io::Result<()> {
-    let words: Vec<f64> = match &sim.state.ledger {
-        Some(l) => l
-            .to_words()
-            .into_iter()
-            .chain([sim.books.start, sim.books.poured])
-            .collect(),
-        None => Vec::new(),
+    let Some(departed) = &sim.state.ledger else {
+        return put_f64(w, &[]);
     };
-    put_f64(w, &words)
+    let words: Vec<f64> = departed
+        .to_words()
+        .into_iter()
+        .map(f64::from_bits)
+        .chain([sim.books.start, sim.books.poured])
+        .collect();
+    put_f64(w, &words)?;
+    put_f64(w, &grains_dem3d::ledger_sums::rows_by_id(&sim.state))
 }
 
 /// Reads what [`write_tail`] appended: the ledger into `state`, and its books (none
-/// from a checkpoint written without it).
+/// from a checkpoint written without it). A checkpoint of the ledger's figures alone
+/// (written before the spheres kept their own) is refused: its ledger cannot go on.
 pub fn read_tail(r: &mut impl Read, state: &mut State) -> Result<Books, SnapshotError> {
     let mut peek = [0u8; 1];
     if r.read(&mut peek)? == 0 {
         return Ok(Books::default());
     }
-    let words = get_f64(&mut (&peek[..]).chain(r), LEDGER_WORDS + 2)?;
+    let mut r = (&peek[..]).chain(r);
+    let words = get_f64(&mut r, LedgerSums::WORDS + 2)?;
     if words.is_empty() {
         return Ok(Books::default());
     }
-    let Ok(w) = <[f64; LEDGER_WORDS + 2]>::try_from(words.as_slice()) else {
+    let (sums, books) = words.split_at(words.len().saturating_sub(2));
+    let bits: Vec<u64> = sums.iter().map(|x| x.to_bits()).collect();
+    let (Some(departed), &[start, poured]) = (LedgerSums::from_words(&bits), books) else {
         return Err(SnapshotError::Invalid(format!(
-            "the energy ledger has {} numbers, not {}",
+            "the energy ledger has {} numbers, not {}{}",
             words.len(),
-            LEDGER_WORDS + 2
+            LedgerSums::WORDS + 2,
+            if words.len() == LEDGER_WORDS + 2 {
+                " (written by an older build, before each sphere kept its own ledger: \
+                 it cannot go on; start the run again)"
+            } else {
+                ""
+            }
         )));
     };
-    let mut l = [0.0; LEDGER_WORDS];
-    l.copy_from_slice(&w[..LEDGER_WORDS]);
-    state.ledger = Some(EnergyLedger::from_words(&l));
-    Ok(Books {
-        start: w[LEDGER_WORDS],
-        poured: w[LEDGER_WORDS + 1],
-    })
+    let n = state.particles.len();
+    let rows = get_f64(&mut r, LEDGER_WORDS * n)?;
+    grains_dem3d::ledger_sums::read_rows(state, &rows).map_err(SnapshotError::Invalid)?;
+    state.ledger = Some(departed);
+    Ok(Books { start, poured })
 }
 
 /// The `energy_closure` check: |residual| / reference at the end, at most `limit`.
 pub fn check(name: &str, sim: &Dem3, d: &Diagnostics, limit: f64) -> Check {
-    match &sim.state.ledger {
+    match &sim.ledger {
         Some(l) => {
             let r = residual(d, l, &sim.books).abs() / reference(l, &sim.books);
             Check::at_most(name, r, limit)

@@ -55,6 +55,8 @@ pub struct Dem3 {
     pub releases: Vec<(usize, f64)>,
     /// The energy ledger's start and what pours brought in ([`ledger`]).
     pub books: ledger::Books,
+    /// The energy ledger's figures at the last sample (made only then: [`ledger`]).
+    pub ledger: Option<grains_dem3d::EnergyLedger>,
     /// This rank's part of a run spread over ranks (`None`: the whole run is here).
     /// Then `state` is rank 0's view, whole at frames, checkpoints and the end.
     pub ranks: Option<Box<ranks::Part>>,
@@ -90,6 +92,7 @@ impl Dem3 {
             pour: None,
             releases: Vec::new(),
             books: ledger::Books::default(),
+            ledger: None,
             ranks: None,
         }
     }
@@ -135,8 +138,14 @@ impl Simulation for Dem3 {
 
     fn sample(&mut self) -> Diagnostics {
         match &self.ranks {
-            Some(part) => part.sample(&self.setup),
-            None => diagnostics::measure(&self.setup, &self.state),
+            Some(part) => {
+                self.ledger = part.ledger_figures();
+                part.sample(&self.setup)
+            }
+            None => {
+                self.ledger = grains_dem3d::ledger_sums::figures(&self.state);
+                diagnostics::measure(&self.setup, &self.state)
+            }
         }
     }
 

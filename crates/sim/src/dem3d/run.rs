@@ -20,7 +20,7 @@ use crate::run::{finish, resume_hint, summary, Costs, Finished, Live, RunError, 
 use crate::source::Source;
 use grains_core::history::History;
 use grains_dem3d::diagnostics::Diagnostics;
-use grains_dem3d::{EnergyLedger, State};
+use grains_dem3d::State;
 use std::path::{Path, PathBuf};
 
 /// A checkpoint read back: the run loop's progress, the engine state and the energy
@@ -178,9 +178,10 @@ pub fn open_on(
     };
     if resume.is_none() && s.analysis.energy_ledger {
         // Both laws split their dissipation: a refusal leaves the ledger off.
-        sim.state.ledger = EnergyLedger::starting(&sim.setup, &sim.state).ok();
-        let d = grains_dem3d::diagnostics::measure(&sim.setup, &sim.state);
-        super::ledger::open(&mut sim, &d);
+        if grains_dem3d::ledger_sums::start(&sim.setup, &mut sim.state).is_ok() {
+            let d = grains_dem3d::diagnostics::measure(&sim.setup, &sim.state);
+            super::ledger::open(&mut sim, &d);
+        }
     }
     sim.lammps_dump = s.output.lammps_dump;
     sim.releases = super::walls::releases(s, &sim.setup.walls);

@@ -43,8 +43,9 @@ pub struct Comm {
     /// Ghosts held, over every rank, at the end.
     pub ghosts: u64,
     /// The ghost refresh, the rebuilds (spread over the steps), the step's reductions,
-    /// the energy ledger's gathers, and what is outside the step (start, samples, state
-    /// hash, whole-state gathers), in that order ([`Comm::STAGES`]).
+    /// the energy ledger's sums (at samples and gathers), and what is outside the step
+    /// (start, samples, state hash, whole-state gathers), in that order
+    /// ([`Comm::STAGES`]).
     pub stages: [PerStep; 5],
     /// The most bytes one rank sent per step in the stepping (all stages but outputs).
     pub busiest_sent: f64,

@@ -5,15 +5,17 @@
 // Each rank steps its box of the domain (the engine's `decomp`), every global figure
 // is reduced over the ranks, and rank 0 holds the whole state, gathered, at frames,
 // checkpoints and the end, for the observers that read every particle. The history
-// rows need the samples (reduced on every rank) and the time, step, build count, wall
-// loads and the ledger (the same on every rank, copied into rank 0's view every step).
+// rows need the samples (reduced on every rank) and the time, step, build count and wall
+// loads (the same on every rank, copied into rank 0's view every step); the energy
+// ledger's sums are combined over the ranks at samples and gathers only.
 
 use super::engine::comm::Post;
 use super::engine::decomp::traffic::Totals;
 use super::engine::decomp::{Decomposed, GridError};
 use super::engine::diagnostics::Diagnostics;
+use super::engine::ledger_sums::{self, LedgerSums};
 use super::engine::math::DIM;
-use super::engine::{step_on, Exchange, Hooks, NoHooks, Reduce, Setup, State};
+use super::engine::{step_on, EnergyLedger, Exchange, Hooks, NoHooks, Reduce, Setup, State};
 use crate::ranks::comm::{Comm, PerStep};
 use crate::ranks::Link;
 use serde::{Deserialize, Serialize};
@@ -148,8 +150,8 @@ impl Part {
     }
 
     /// One step of this rank's part; `view` (rank 0's whole state between gathers)
-    /// takes what every rank knows: time, step, build count, wall loads and poses, and
-    /// the energy ledger (summed in id order over the ranks: the serial one).
+    /// takes what every rank knows: time, step, build count, wall loads and poses (the
+    /// energy ledger only when asked: [`Part::ledger_figures`]).
     pub fn advance(&mut self, setup: &Setup, dt: f64, view: &mut State) {
         self.advance_with(setup, dt, &mut NoHooks, view);
     }
@@ -170,7 +172,20 @@ impl Part {
         view.contacts.builds = s.contacts.builds;
         view.wall_loads.clone_from(&s.wall_loads);
         view.walls.clone_from(&s.walls);
-        view.ledger = s.ledger;
+    }
+
+    /// The energy ledger's figures over every rank (on every rank; each rank must ask
+    /// at the same time): the exact sums of each rank's own particles' running ledgers,
+    /// combined in a fixed number of words, so the serial run's figures bit for bit.
+    pub fn ledger_figures(&self) -> Option<EnergyLedger> {
+        let own = ledger_sums::sums(&self.local, |i| self.dec.owns(i))?;
+        Some(own.total(&self.dec).figures())
+    }
+
+    /// What left the run on every rank, summed (collective; see
+    /// [`super::engine::ledger_sums`]).
+    fn departed(&self) -> Option<LedgerSums> {
+        Some(self.local.ledger.as_ref()?.total(&self.dec))
     }
 
     /// The run's figures over every rank, the serial ones bit for bit (on every rank).
@@ -199,9 +214,10 @@ impl Part {
     /// Gathers the whole state into rank 0's `view` (the other ranks' stays as it is)
     /// and takes the state hash over every rank.
     pub fn gather(&mut self, setup: &Setup, view: &mut State) {
+        let ledger = self.departed();
         if let Some(whole) = self.dec.gather_whole(setup, &self.local) {
             *view = whole;
-            view.ledger = self.local.ledger;
+            view.ledger = ledger;
         }
         self.hash = self.dec.state_hash(&self.local);
         self.comm = comm_of(&self.dec.traffic_over_ranks(&self.local));
