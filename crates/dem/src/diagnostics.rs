@@ -83,23 +83,7 @@ pub fn measure_where<R: Reduce + ?Sized>(
     reduce: &R,
     owns: impl Fn(usize) -> bool + Sync,
 ) -> Diagnostics {
-    let (mut d, terms) = measure_here(setup, s, &owns);
-    let sums = terms
-        .par_chunks(CHUNK)
-        .enumerate()
-        .map(|(c, ts)| {
-            let mut sum = ExactSums::<TERMS>::default();
-            for (k, t) in ts.iter().enumerate() {
-                if owns(c * CHUNK + k) {
-                    sum.add(t);
-                }
-            }
-            sum
-        })
-        .reduce(ExactSums::default, |mut a, b| {
-            a.merge(&b);
-            a
-        });
+    let (mut d, sums) = measure_here(setup, s, &owns);
     if reduce.ranks() > 1 {
         let mut counts = [
             d.pair_contacts as u64,
@@ -123,27 +107,28 @@ pub fn measure_where<R: Reduce + ?Sized>(
     d
 }
 
-/// This rank's counts and extremes, and each stored particle's terms (zero for one it
-/// does not own).
+/// This rank's counts and extremes, and the exact sums of the terms of the particles
+/// it owns. Each chunk adds its particles' terms as it makes them: no array of every
+/// particle's terms is kept (56 bytes a sphere at the peak of a run), and as the sums
+/// are exact, the order they are added in does not matter.
 fn measure_here(
     setup: &Setup,
     s: &State,
     owns: &(impl Fn(usize) -> bool + Sync),
-) -> (Diagnostics, Vec<[f64; TERMS]>) {
+) -> (Diagnostics, ExactSums<TERMS>) {
     let p = &s.particles;
     let list = &s.contacts;
     let n = p.len();
-    let mut terms = vec![[0.0; TERMS]; n];
-    let parts: Vec<Diagnostics> = terms
-        .par_chunks_mut(CHUNK)
-        .enumerate()
-        .map(|(c, out)| {
+    let parts: Vec<(Diagnostics, ExactSums<TERMS>)> = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
             let mut d = Diagnostics {
                 finite: true,
                 ..Default::default()
             };
-            for (k, t) in out.iter_mut().enumerate() {
-                let i = c * CHUNK + k;
+            let mut sum = ExactSums::<TERMS>::default();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                let mut t = [0.0; TERMS];
                 let mine = owns(i);
                 // This particle's figures alone, then its pairs' and walls' energy.
                 let mut e = Diagnostics::default();
@@ -199,21 +184,26 @@ fn measure_here(
                 for a in 0..DIM {
                     t[4 + a] = e.momentum.get(a);
                 }
+                if mine {
+                    sum.add(&t);
+                }
             }
-            d
+            (d, sum)
         })
         .collect();
     let mut total = Diagnostics {
         finite: true,
         ..Default::default()
     };
-    for d in parts {
+    let mut sums = ExactSums::<TERMS>::default();
+    for (d, part) in parts {
         total.pair_contacts += d.pair_contacts;
         total.wall_contacts += d.wall_contacts;
         total.max_overlap_ratio = total.max_overlap_ratio.max(d.max_overlap_ratio);
         total.finite &= d.finite;
+        sums.merge(&part);
     }
-    (total, terms)
+    (total, sums)
 }
 
 fn wall_terms(setup: &Setup, s: &State, i: usize, d: &mut Diagnostics) {

@@ -31,8 +31,9 @@ struct Chunk<'a> {
     /// The entries' slots in `pool`.
     slot: &'a mut [u32],
     pool: &'a mut Pool,
-    /// Which entries touch ([`ContactList::touch`]).
-    touch: &'a mut [u8],
+    /// How many entries touch (this law keeps no per-entry flags: an entry touches
+    /// when it has a slot).
+    touching: usize,
     force: &'a mut [Vector],
     torque: &'a mut [AngVector],
     /// With the ledger: each particle's row terms (empty without).
@@ -40,11 +41,11 @@ struct Chunk<'a> {
 }
 
 impl Chunk<'_> {
-    /// Flags entry `k` as touching or not; one that does not touch has its history (and
-    /// with it its reaction) released.
+    /// Counts entry `k` as touching or not; one that does not touch has its history
+    /// (and with it its reaction) released.
     #[inline(always)]
     fn touches(&mut self, k: usize, touching: bool) -> bool {
-        self.touch[k] = touching as u8;
+        self.touching += touching as usize;
         if !touching {
             self.pool.release(&mut self.slot[k]);
         }
@@ -87,7 +88,8 @@ fn run<const P: u8>(
     let n = p.len();
     list.history
         .fit(list.nbr.len(), n.div_ceil(CHUNK), table.history_width());
-    list.fit_touch();
+    // The slots say which entries touch: no flags are kept.
+    list.touch = Vec::new();
     // A list read back from a checkpoint holds its reactions per entry: the pass makes
     // them anew in the pools.
     list.fpair = Vec::new();
@@ -95,7 +97,7 @@ fn run<const P: u8>(
     let row = &list.row;
     let mut jobs = Vec::with_capacity(n.div_ceil(CHUNK));
     let mut pools = list.history.pools.iter_mut();
-    let (mut slot, mut touch) = (&mut list.history.slot[..], &mut list.touch[..]);
+    let mut slot = &mut list.history.slot[..];
     let (pos, vel, omega, radius, inv_mass, material) = (
         &p.pos,
         &p.vel,
@@ -110,17 +112,16 @@ fn run<const P: u8>(
         let range = c * CHUNK..((c + 1) * CHUNK).min(n);
         let len = (row[range.end] - row[range.start]) as usize;
         let (h, h_rest) = slot.split_at_mut(len);
-        let (u, u_rest) = touch.split_at_mut(len);
         jobs.push(Chunk {
             range,
             slot: h,
             pool: pools.next().expect("a pool per chunk"),
-            touch: u,
+            touching: 0,
             force: force.next().unwrap_or_default(),
             torque: torque.next().unwrap_or_default(),
             terms: terms.next().unwrap_or_default(),
         });
-        (slot, touch) = (h_rest, u_rest);
+        slot = h_rest;
     }
     let ctx = Ctx {
         image,
@@ -224,7 +225,7 @@ impl<const P: u8> Ctx<'_, P> {
             let tj = (rj - half) * r.moment - r.couple;
             c.pool.set_reaction(s, r.force, tj * (1.0 / rj));
         }
-        c.touch.iter().map(|&t| t as usize).sum()
+        c.touching
     }
 
     /// One law without rolling, twisting or rescaling for every pair: the touching
@@ -259,7 +260,7 @@ impl<const P: u8> Ctx<'_, P> {
             }
         }
         self.flush(law, &mut b, len, c);
-        c.touch.iter().map(|&t| t as usize).sum()
+        c.touching
     }
 
     /// Runs the law over the first `len` pairs of the block and adds their forces in

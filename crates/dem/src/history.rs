@@ -235,12 +235,25 @@ fn read(row: &[f64]) -> GranularHistory {
 /// grow when the pass first writes a reaction, not when a slot is taken: a rebuild,
 /// which fills new pools while the old histories are still held, then holds histories
 /// alone.
+///
+/// The force and the torque of a pair sit side by side in one record ([`Reaction`]):
+/// the gather, which reads them in the order of the partners' entries, then meets one
+/// line of memory a pair where two arrays cost it two.
 #[derive(Clone, Debug, Default)]
 pub struct Pool {
     data: Narrow,
-    force: Vec<Vector>,
-    moment: Vec<AngVector>,
+    reactions: Vec<Reaction>,
     free: Vec<u32>,
+}
+
+/// A touching pair's reaction: the force on the row owner and the partner's torque per
+/// unit of its radius.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Reaction {
+    /// Force on the row owner.
+    pub force: Vector,
+    /// The partner's torque per unit of its radius.
+    pub moment: AngVector,
 }
 
 impl Pool {
@@ -284,22 +297,33 @@ impl Pool {
     /// and the partner's torque per unit of its radius.
     #[inline]
     pub fn reaction(&self, slot: u32) -> (Vector, AngVector) {
-        let s = slot as usize;
-        match (self.force.get(s), self.moment.get(s)) {
-            (Some(&f), Some(&m)) => (f, m),
-            _ => (Vector::ZERO, AngVector::default()),
-        }
+        let r = reaction_in(&self.reactions, slot);
+        (r.force, r.moment)
+    }
+
+    /// Every slot's reaction so far (slots past the end have none yet): what the
+    /// gather reads through [`reaction_in`].
+    #[inline]
+    pub fn reactions(&self) -> &[Reaction] {
+        &self.reactions
     }
 
     /// Keeps the reaction of the pair in `slot` ([`Pool::reaction`]).
-    #[inline]
+    #[inline(always)]
     pub fn set_reaction(&mut self, slot: u32, force: Vector, moment: AngVector) {
-        if self.force.len() <= slot as usize {
-            self.force.resize(self.data.len(), Vector::ZERO);
-            self.moment.resize(self.data.len(), AngVector::default());
+        let s = slot as usize;
+        if s >= self.reactions.len() {
+            self.grow_reactions();
         }
-        self.force[slot as usize] = force;
-        self.moment[slot as usize] = moment;
+        self.reactions[s] = Reaction { force, moment };
+    }
+
+    /// Sizes the reactions to the histories (the first reaction written since the
+    /// pool grew).
+    #[cold]
+    #[inline(never)]
+    fn grow_reactions(&mut self) {
+        self.reactions.resize(self.data.len(), Reaction::default());
     }
 
     /// The tangential spring in `slot` (the first numbers of its history).
@@ -323,6 +347,12 @@ impl Pool {
     pub fn width(&self) -> usize {
         self.data.width()
     }
+}
+
+/// The reaction in `slot` of a pool's [`Pool::reactions`], zero where it has none.
+#[inline(always)]
+pub fn reaction_in(reactions: &[Reaction], slot: u32) -> Reaction {
+    reactions.get(slot as usize).copied().unwrap_or_default()
 }
 
 /// Every entry's slot and every chunk's pool; empty under the linear law.

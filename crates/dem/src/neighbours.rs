@@ -53,7 +53,8 @@ pub struct ContactList {
     /// an entry's force only when it stops touching (a byte per entry read, where a
     /// force is three to six words written), and on a dilute bed the gather reads the
     /// forces of touching entries only. Not kept in checkpoints: a list read back
-    /// starts with every flag set, so the first pass zeroes what does not touch.
+    /// starts with every flag set, so the first pass zeroes what does not touch. Empty
+    /// under the granular law, whose entries touch where they have a history slot.
     pub touch: Vec<u8>,
     /// How many entries touched at the last evaluation (the gather's choice of loop).
     pub touching: usize,
@@ -317,7 +318,10 @@ impl ContactList {
             self.fpair.resize(m, Vector::ZERO);
             self.ftan.resize(m, AngVector::default());
         }
-        self.touch.resize(m, 0);
+        if !granular {
+            // The granular law's slots say which entries touch.
+            self.touch.resize(m, 0);
+        }
         self.touching = 0;
         self.index_reverse(&particles.id);
         self.history = match old_granular {
