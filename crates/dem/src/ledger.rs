@@ -262,30 +262,23 @@ impl EnergyLedger {
 /// The energy particle `i`'s wall contacts' springs in `s` hold (as
 /// `crate::diagnostics` counts them: a wall is flat, R_eff the particle's radius).
 fn wall_springs(setup: &Setup, s: &State, i: usize) -> Springs {
-    let p = &s.particles;
-    let (list, nw) = (&s.contacts, setup.walls.len());
+    let (p, list) = (&s.particles, &s.contacts);
     let mut out = Springs::default();
-    for (w, wall) in setup.walls.iter().enumerate() {
-        let Some(t) = wall.shape.nearest(p.pos[i]) else {
-            continue;
-        };
-        let overlap = p.radius[i] - t.distance;
-        if overlap <= 0.0 {
-            continue;
-        }
-        let (mi, k) = (p.material[i] as usize, i * nw + w);
-        let wm = wall.material.map_or(mi, |m| m as usize);
+    for o in crate::walls::overlapping_walls(setup, p, i) {
+        let (k, pair) = (o.slot, o.materials);
         let st = match &setup.granular {
             Some(table) => {
                 let h = list.wall_history.try_get(k).unwrap_or_default();
-                table.get(mi, wm).stored_split(overlap, p.radius[i], &h)
+                table
+                    .get(pair.0, pair.1)
+                    .stored_split(o.overlap, p.radius[i], &h)
             }
             None => {
                 let xi = list.wall_shear.get(k).copied().unwrap_or_default();
                 setup
                     .pairs
-                    .get(mi, wm)
-                    .stored_split(overlap, p.radius[i], &xi)
+                    .get(pair.0, pair.1)
+                    .stored_split(o.overlap, p.radius[i], &xi)
             }
         };
         out.normal += st.normal;

@@ -162,31 +162,22 @@ pub fn particle_stress(setup: &Setup, s: &State) -> Vec<Tensor> {
     let list = &s.contacts;
     let n = p.len();
     let mut sum = pair_moments(setup, s);
-    let nw = setup.walls.len();
     for i in 0..n {
-        for (w, wall) in setup.walls.iter().enumerate() {
-            let Some(t) = wall.shape.nearest(p.pos[i]) else {
-                continue;
-            };
-            let overlap = p.radius[i] - t.distance;
-            if overlap <= 0.0 {
-                continue;
-            }
-            let k = i * nw + w;
-            let mi = p.material[i] as usize;
-            let wm = wall.material.map_or(mi, |m| m as usize);
+        for o in crate::walls::overlapping_walls(setup, p, i) {
             let c = Contact {
-                n: t.normal,
-                overlap,
+                n: o.touch.normal,
+                overlap: o.overlap,
                 r_eff: p.radius[i],
                 m_eff: p.mass(i),
                 v: p.vel[i],
                 spin: p.radius[i] * p.omega[i],
                 w_rel: p.omega[i],
             };
-            let xi = list.wall_shear.get(k).copied().unwrap_or_default();
-            let (f, _) = force_now(setup, (mi, wm), &c, xi, list.wall_history.try_get(k));
-            sum[i] += outer((t.distance + 0.5 * overlap) * t.normal, f);
+            let xi = list.wall_shear.get(o.slot).copied().unwrap_or_default();
+            let history = list.wall_history.try_get(o.slot);
+            let (f, _) = force_now(setup, o.materials, &c, xi, history);
+            let arm = (o.touch.distance + 0.5 * o.overlap) * o.touch.normal;
+            sum[i] += outer(arm, f);
         }
     }
     sum.iter()

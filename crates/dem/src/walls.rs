@@ -125,6 +125,49 @@ pub struct WallTouch {
     pub distance: f64,
 }
 
+/// A wall that particle `i` overlaps now, as the diagnostics see it: the wall's index,
+/// the slot of the particle's stored wall spring and history, the touch, the overlap
+/// and the materials of the particle and of the wall (the particle's when the wall
+/// names none).
+#[derive(Clone, Copy, Debug)]
+pub struct WallOverlap {
+    /// The wall's index in the set-up.
+    pub wall: usize,
+    /// Where the pair's spring and history are stored (`i * walls + wall`).
+    pub slot: usize,
+    /// Normal and distance from the particle's centre.
+    pub touch: WallTouch,
+    /// Depth of the overlap (m, positive).
+    pub overlap: f64,
+    /// The particle's material and the wall's.
+    pub materials: (usize, usize),
+}
+
+/// The walls particle `i` of `p` overlaps, in wall order: what the ledger's stored
+/// springs and the contact stress both walk, so they count the same contacts.
+pub fn overlapping_walls<'a>(
+    setup: &'a Setup,
+    p: &'a crate::particles::Particles,
+    i: usize,
+) -> impl Iterator<Item = WallOverlap> + 'a {
+    let nw = setup.walls.len();
+    setup.walls.iter().enumerate().filter_map(move |(w, wall)| {
+        let touch = wall.shape.nearest(p.pos[i])?;
+        let overlap = p.radius[i] - touch.distance;
+        if overlap <= 0.0 {
+            return None;
+        }
+        let mi = p.material[i] as usize;
+        Some(WallOverlap {
+            wall: w,
+            slot: i * nw + w,
+            touch,
+            overlap,
+            materials: (mi, wall.material.map_or(mi, |m| m as usize)),
+        })
+    })
+}
+
 /// A round wall (a circle, a sphere, a cylinder about the point level with `p`) of
 /// `radius` about `c`: particles inside or outside.
 #[inline]
