@@ -10,6 +10,7 @@ use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::CHUNK;
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// Normal and tangential force of one contact, and its updated tangential spring.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -144,8 +145,10 @@ pub fn pair_contacts(
     let granular = setup.granular.as_ref();
     if !ledger {
         match granular {
-            Some(table) => crate::granular_pass::pair_contacts(setup, table, p, list, dt, None),
-            None => dispatch::<Off>(setup, p, list, dt, &mut []),
+            Some(table) => {
+                crate::granular_pass::pair_contacts(setup, table, p, list, dt, None, None)
+            }
+            None => dispatch::<Off>(setup, p, list, dt, &mut [], None),
         }
         return;
     }
@@ -153,36 +156,100 @@ pub fn pair_contacts(
     rows.resize(p.len(), PassTally::default());
     match granular {
         Some(table) => {
-            crate::granular_pass::pair_contacts(setup, table, p, list, dt, Some(&mut rows))
+            crate::granular_pass::pair_contacts(setup, table, p, list, dt, Some(&mut rows), None)
         }
-        None => dispatch::<On>(setup, p, list, dt, &mut rows),
+        None => dispatch::<On>(setup, p, list, dt, &mut rows, None),
     }
     crate::ledger_sums::pair_pass(&mut p.ledger, &rows);
     list.ledger_rows = rows;
 }
 
-/// The pass; with the ledger (`T`), each particle's row terms are left in `rows`.
+/// What runs after each chunk's pass when the pass takes the chunks one after another
+/// in order ([`crate::wavefront`]): the chunk's index, the particles and the list.
+pub type Then<'t> = &'t mut dyn FnMut(usize, &mut Particles, &mut ContactList);
+
+/// Runs `pass` over each chunk in turn (given its particles and its entries, returning
+/// how many of them touch), `then` after each; returns how many entries touch.
+pub(crate) fn chunk_by_chunk(
+    p: &mut Particles,
+    list: &mut ContactList,
+    then: Then,
+    mut pass: impl FnMut(Range<usize>, Range<usize>, &mut Particles, &mut ContactList) -> usize,
+) -> usize {
+    let n = p.len();
+    let mut touching = 0;
+    for c in 0..n.div_ceil(CHUNK) {
+        let range = c * CHUNK..((c + 1) * CHUNK).min(n);
+        let entries = list.row[range.start] as usize..list.row[range.end] as usize;
+        touching += pass(range, entries, p, list);
+        then(c, p, list);
+    }
+    touching
+}
+
+/// [`pair_contacts`] without the ledger, the chunks taken one after another in order,
+/// `then` called after each.
+pub fn pair_contacts_then(
+    setup: &Setup,
+    p: &mut Particles,
+    list: &mut ContactList,
+    dt: f64,
+    then: Then,
+) {
+    match setup.granular.as_ref() {
+        Some(table) => {
+            crate::granular_pass::pair_contacts(setup, table, p, list, dt, None, Some(then))
+        }
+        None => dispatch::<Off>(setup, p, list, dt, &mut [], Some(then)),
+    }
+}
+
+/// The pass; with the ledger (`T`), each particle's row terms are left in `rows`; with
+/// `then`, the chunks one after another ([`pair_contacts_then`]).
 fn dispatch<T: Tally>(
     setup: &Setup,
     p: &mut Particles,
     list: &mut ContactList,
     dt: f64,
     rows: &mut [PassTally],
+    then: Option<Then>,
 ) {
     if setup.pairs.len() == 1 {
         let uniform = Uniform(*setup.pairs.get(0, 0));
         crate::with_image!(
             setup.domain,
             run::<Uniform, T>,
-            (setup, &uniform, p, list, dt, rows)
+            (setup, &uniform, p, list, dt, rows, then)
         )
     } else {
         crate::with_image!(
             setup.domain,
             run::<PairTable, T>,
-            (setup, &setup.pairs, p, list, dt, rows)
+            (setup, &setup.pairs, p, list, dt, rows, then)
         )
     }
+}
+
+/// The pass's context, borrowing the particles' and the list's fields one by one so
+/// that the chunks' own slices can be borrowed beside it.
+macro_rules! pass_ctx {
+    ($setup:expr, $lookup:expr, $p:expr, $list:expr, $dt:expr) => {
+        Ctx {
+            image: Image::<P>::new(&$setup.domain),
+            lookup: $lookup,
+            row: &$list.row,
+            nbr: &$list.nbr,
+            owner: &$list.owner,
+            pos: &$p.pos,
+            vel: &$p.vel,
+            omega: &$p.omega,
+            radius: &$p.radius,
+            inv_mass: &$p.inv_mass,
+            material: &$p.material,
+            dt: $dt,
+            tally: std::marker::PhantomData::<T>,
+        }
+    };
 }
 
 fn run<L: PairLookup, T: Tally, const P: u8>(
@@ -192,10 +259,26 @@ fn run<L: PairLookup, T: Tally, const P: u8>(
     list: &mut ContactList,
     dt: f64,
     rows: &mut [PassTally],
+    then: Option<Then>,
 ) {
     let n = p.len();
     list.fit_touch();
-    let row = &list.row;
+    if let Some(then) = then {
+        list.touching = chunk_by_chunk(p, list, then, |c, e, p, list| {
+            let mut job = Chunk {
+                range: c.clone(),
+                shear: &mut list.shear[e.clone()],
+                fpair: &mut list.fpair[e.clone()],
+                ftan: &mut list.ftan[e.clone()],
+                touch: &mut list.touch[e],
+                force: &mut p.force[c.clone()],
+                torque: &mut p.torque[c],
+                terms: &mut [],
+            };
+            pass_ctx!(setup, lookup, p, list, dt).chunk(&mut job)
+        });
+        return;
+    }
     // Split entry and particle arrays at chunk boundaries so each task owns its slices.
     let mut jobs = Vec::with_capacity(n.div_ceil(CHUNK));
     let (mut shear, mut fpair, mut ftan, mut touch) = (
@@ -210,7 +293,7 @@ fn run<L: PairLookup, T: Tally, const P: u8>(
     let mut done = 0usize;
     for c in 0..n.div_ceil(CHUNK) {
         let range = c * CHUNK..((c + 1) * CHUNK).min(n);
-        let len = row[range.end] as usize - done;
+        let len = list.row[range.end] as usize - done;
         let (s, s_rest) = shear.split_at_mut(len);
         let (f, f_rest) = fpair.split_at_mut(len);
         let (t, t_rest) = ftan.split_at_mut(len);
@@ -231,21 +314,7 @@ fn run<L: PairLookup, T: Tally, const P: u8>(
         touch = h_rest;
         done += len;
     }
-    let ctx = Ctx {
-        image: Image::<P>::new(&setup.domain),
-        lookup,
-        row,
-        nbr: &list.nbr,
-        owner: &list.owner,
-        pos: &p.pos,
-        vel: &p.vel,
-        omega: &p.omega,
-        radius: &p.radius,
-        inv_mass: &p.inv_mass,
-        material: &p.material,
-        dt,
-        tally: std::marker::PhantomData::<T>,
-    };
+    let ctx = pass_ctx!(setup, lookup, p, list, dt);
     list.touching = jobs
         .into_par_iter()
         .map(|mut job| ctx.chunk(&mut job))

@@ -14,6 +14,7 @@
 
 use crate::contact::PairTable;
 use crate::domain::Image;
+use crate::forces::{chunk_by_chunk, Then};
 use crate::granular::{Contact, Damping, GranularParams, Normal, Tangential};
 use crate::history::Pool;
 use crate::law::{ContactLaw, Prior};
@@ -57,7 +58,9 @@ impl Chunk<'_> {
 /// (none when `dt` is 0: the evaluation of a set-up, as LAMMPS's). With `rows` (one per
 /// particle), each particle's row of ledger terms ([`ContactLaw::ledger_terms`]) is
 /// left there: the pass then takes every pair through the law one at a time (the
-/// blocked loop gives the same bits, and is kept free of the ledger's work).
+/// blocked loop gives the same bits, and is kept free of the ledger's work). With
+/// `then` (and no `rows`), the chunks are taken one after another in order, `then`
+/// called after each ([`crate::forces::pair_contacts_then`]).
 pub fn pair_contacts(
     setup: &Setup,
     table: &PairTable<GranularParams>,
@@ -65,8 +68,30 @@ pub fn pair_contacts(
     list: &mut ContactList,
     dt: f64,
     rows: Option<&mut [PassTally]>,
+    then: Option<Then>,
 ) {
-    crate::with_image!(setup.domain, run, (setup, table, p, list, dt, rows));
+    crate::with_image!(setup.domain, run, (setup, table, p, list, dt, rows, then));
+}
+
+/// The pass's context, borrowing the particles' and the list's fields one by one so
+/// that the chunks' own slices can be borrowed beside it.
+macro_rules! pass_ctx {
+    ($setup:expr, $table:expr, $p:expr, $list:expr, $dt:expr) => {
+        Ctx {
+            image: Image::<P>::new(&$setup.domain),
+            owner: &$list.owner,
+            nbr: &$list.nbr,
+            row: &$list.row,
+            pos: &$p.pos,
+            vel: &$p.vel,
+            omega: &$p.omega,
+            radius: &$p.radius,
+            inv_mass: &$p.inv_mass,
+            material: &$p.material,
+            table: $table,
+            dt: $dt,
+        }
+    };
 }
 
 fn run<const P: u8>(
@@ -76,10 +101,10 @@ fn run<const P: u8>(
     list: &mut ContactList,
     dt: f64,
     rows: Option<&mut [PassTally]>,
+    then: Option<Then>,
 ) {
     let book = rows.is_some();
     let mut terms = rows.unwrap_or_default().chunks_mut(CHUNK);
-    let image = Image::<P>::new(&setup.domain);
     // Particles of one material (the common case; walls may differ): the law is read
     // once, not per contact.
     let m0 = p.material.first().map_or(0, |&m| m as usize);
@@ -94,18 +119,30 @@ fn run<const P: u8>(
     // them anew in the pools.
     list.fpair = Vec::new();
     list.ftan = Vec::new();
+    let plain = uniform.and_then(|law| Plain::of(&law));
+    if let Some(then) = then.filter(|_| !book) {
+        list.touching = chunk_by_chunk(p, list, then, |c, e, p, list| {
+            let mut job = Chunk {
+                range: c.clone(),
+                slot: &mut list.history.slot[e],
+                pool: &mut list.history.pools[c.start / CHUNK],
+                touching: 0,
+                force: &mut p.force[c.clone()],
+                torque: &mut p.torque[c],
+                terms: &mut [],
+            };
+            let ctx = pass_ctx!(setup, table, p, list, dt);
+            match &plain {
+                Some(plain) => ctx.blocked(plain, &mut job),
+                None => ctx.scalar::<false>(uniform.as_ref(), &mut job),
+            }
+        });
+        return;
+    }
     let row = &list.row;
     let mut jobs = Vec::with_capacity(n.div_ceil(CHUNK));
     let mut pools = list.history.pools.iter_mut();
     let mut slot = &mut list.history.slot[..];
-    let (pos, vel, omega, radius, inv_mass, material) = (
-        &p.pos,
-        &p.vel,
-        &p.omega,
-        &p.radius,
-        &p.inv_mass,
-        &p.material,
-    );
     let mut force = p.force.chunks_mut(CHUNK);
     let mut torque = p.torque.chunks_mut(CHUNK);
     for c in 0..n.div_ceil(CHUNK) {
@@ -123,21 +160,8 @@ fn run<const P: u8>(
         });
         slot = h_rest;
     }
-    let ctx = Ctx {
-        image,
-        owner: &list.owner,
-        nbr: &list.nbr,
-        row,
-        pos,
-        vel,
-        omega,
-        radius,
-        inv_mass,
-        material,
-        table,
-        dt,
-    };
-    list.touching = match uniform.and_then(|law| Plain::of(&law)) {
+    let ctx = pass_ctx!(setup, table, p, list, dt);
+    list.touching = match plain {
         _ if book => jobs
             .into_par_iter()
             .map(|mut c| ctx.scalar::<true>(uniform.as_ref(), &mut c))

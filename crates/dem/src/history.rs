@@ -170,6 +170,15 @@ impl Narrow {
         }
     }
 
+    /// Records `range` as a run one task owns.
+    pub fn slice_mut(&mut self, range: std::ops::Range<usize>) -> NarrowMut<'_> {
+        let width = self.width;
+        NarrowMut {
+            width,
+            data: &mut self.data[range.start * width..range.end * width],
+        }
+    }
+
     /// The records split into runs of `records` records each, in order.
     pub fn chunks_mut(&mut self, records: usize) -> Vec<NarrowMut<'_>> {
         let width = self.width;

@@ -59,6 +59,13 @@ impl WallSum {
     }
 }
 
+/// Adds one chunk's `loads` to the `total` of each wall (exactly: in any order).
+pub(crate) fn merge_loads(total: &mut [WallSum], loads: &[WallSum]) {
+    for (t, l) in total.iter_mut().zip(loads) {
+        t.merge(l);
+    }
+}
+
 /// The walls' loads from every rank's parts, through `reduce` (one integer sum).
 pub fn wall_loads<R: Reduce + ?Sized>(parts: &[WallSum], reduce: &R) -> Vec<WallLoad> {
     let mut n: Vec<u64> = parts.iter().map(|w| w.contacts).collect();
@@ -268,211 +275,351 @@ pub fn walls_gather_kick(
     kick: f64,
     rows: Option<&mut [PassTally]>,
 ) -> Vec<WallSum> {
-    let n = p.len();
-    let rows: Vec<&mut [PassTally]> = match rows {
-        Some(r) => r.chunks_mut(CHUNK).collect(),
-        None => (0..n.div_ceil(CHUNK))
-            .map(|_| &mut [] as &mut [PassTally])
-            .collect(),
-    };
-    let nw = setup.walls.len();
-    let nchunks = n.div_ceil(CHUNK);
-    let wall_shear: Vec<&mut [math::Tangent]> = if nw > 0 {
-        list.wall_shear.chunks_mut(CHUNK * nw).collect()
-    } else {
-        (0..nchunks)
-            .map(|_| &mut [] as &mut [math::Tangent])
-            .collect()
-    };
-    let granular = setup.granular.as_ref();
-    if let Some(table) = granular {
-        // Each chunk writes its own run of records: wide enough for the law beforehand.
-        list.wall_history.widen(table.history_width());
-        list.wall_history.resize(n * nw);
-    }
-    let wall_history: Vec<NarrowMut> = if granular.is_some() && nw > 0 {
-        list.wall_history.chunks_mut(CHUNK * nw)
-    } else {
-        (0..nchunks).map(|_| NarrowMut::default()).collect()
-    };
-    let (pos, radius, inv_mass, inv_inertia, material) =
-        (&p.pos, &p.radius, &p.inv_mass, &p.inv_inertia, &p.material);
-    let (fpair, ftan, touch) = (&list.fpair, &list.ftan, &list.touch);
-    // The granular law keeps its reactions beside the touching pairs' histories: an
-    // entry with a slot touches, and its reaction is in its row owner's pool.
-    let pooled = granular.is_some() && list.history.kept(list.nbr.len());
-    let (slot, pools, owner) = (&list.history.slot, &list.history.pools, &list.owner);
-    // Most entries of a dilute bed do not touch: reading a flag and skipping them beats
-    // reading every force; where most touch, the flag's branch would mispredict.
-    let sparse = 2 * list.touching < list.nbr.len();
-    let (rev_row, rev_entry, wall_near) = (&list.rev_row, &list.rev_entry, &list.wall_near);
-    let gravity = setup.gravity;
-
-    let partial: Vec<Vec<WallSum>> = p
-        .vel
-        .par_chunks_mut(CHUNK)
-        .zip(p.omega.par_chunks_mut(CHUNK))
-        .zip(p.force.par_chunks_mut(CHUNK))
-        .zip(p.torque.par_chunks_mut(CHUNK))
-        .zip(wall_shear)
-        .zip(wall_history)
-        .zip(rows)
+    let (nw, granular) = (setup.walls.len(), setup.granular.is_some());
+    fit_wall_history(setup, list, p.len());
+    let (g, w) = Gather::split(setup, p, list, dt_shear, kick);
+    let partial: Vec<Vec<WallSum>> = w
+        .into_chunks(nw, granular, rows)
+        .into_par_iter()
         .enumerate()
-        .map(
-            |(c, ((((((vel, omega), force), torque), ws), mut wh), book))| {
-                let mut loads = vec![WallSum::default(); nw];
-                for k in 0..vel.len() {
-                    let i = c * CHUNK + k;
-                    let mut terms = PassTally::default();
-                    let r = radius[i];
-                    let mut f = force[k];
-                    let mut t_rev = AngVector::default();
-                    let rev = &rev_entry[rev_row[i] as usize..rev_row[i + 1] as usize];
-                    if pooled {
-                        // As the sparse loop below: entries apart are skipped.
-                        for &e in rev {
-                            let e = e as usize;
-                            if slot[e] != crate::history::NONE {
-                                let (fp, tp) = pools[owner[e] as usize / CHUNK].reaction(slot[e]);
-                                f -= fp;
-                                t_rev += tp;
-                            }
-                        }
-                    } else if sparse {
-                        // The force of an entry that does not touch is +0, and x − (+0) is
-                        // x; a torque sum left at −0 by the skip cannot show either, as the
-                        // own-row sum it is added to is never −0 (a sum that starts at +0).
-                        for &e in rev {
-                            let e = e as usize;
-                            if touch[e] != 0 {
-                                f -= fpair[e];
-                                t_rev += ftan[e];
-                            }
-                        }
-                    } else {
-                        for &e in rev {
-                            f -= fpair[e as usize];
-                            t_rev += ftan[e as usize];
-                        }
-                    }
-                    let mut tq = torque[k] + r * t_rev;
-                    let mut mask = wall_near[i];
-                    while mask != 0 {
-                        let w = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        let shear = &mut ws[k * nw + w];
-                        let Some(touch) = setup.walls[w].shape.nearest(pos[i]) else {
-                            continue;
-                        };
-                        if touch.distance >= r {
-                            *shear = crate::math::Tangent::default();
-                            wh.clear(k * nw + w);
-                            continue;
-                        }
-                        let m = 1.0 / inv_mass[i];
-                        let at = pos[i] + touch.normal * touch.distance;
-                        let v_wall = setup.walls[w].surface_velocity(at);
-                        let v = vel[k] - v_wall;
-                        let prior = || Prior {
-                            overlap: prior_overlap(setup, w, pos[i], r, vel[k], dt_shear),
-                            omega_sum: omega[k],
-                        };
-                        // A wall is a body of infinite mass and radius that does not turn.
-                        let contact = crate::law::Contact {
-                            n: touch.normal,
-                            overlap: r - touch.distance,
-                            r_eff: r,
-                            m_eff: m,
-                            v,
-                            spin: r * omega[k],
-                            w_rel: omega[k],
-                        };
-                        let (fw, tw) = match granular {
-                            Some(table) => {
-                                let wm = setup.walls[w].material.map_or(material[i], |m| m);
-                                let law = table.get(material[i] as usize, wm as usize);
-                                let mut h = wh.get(k * nw + w);
-                                let before = h;
-                                let resp = law.respond(&contact, &mut h, dt_shear);
-                                wh.set(k * nw + w, &h);
-                                if !book.is_empty() {
-                                    terms += law.ledger_terms(
-                                        &contact,
-                                        &before,
-                                        &h,
-                                        &resp,
-                                        dt_shear,
-                                        &prior(),
-                                    );
-                                }
-                                let arm = r - 0.5 * contact.overlap;
-                                (resp.force, arm * resp.moment + resp.couple)
-                            }
-                            None => {
-                                let params = setup.wall_pair(w, material[i] as usize);
-                                let before = *shear;
-                                let cf = contact_force(
-                                    params,
-                                    m,
-                                    touch.normal,
-                                    r - touch.distance,
-                                    v,
-                                    r * omega[k],
-                                    shear,
-                                    dt_shear,
-                                );
-                                let fw = -cf.normal * touch.normal
-                                    + math::tangent_vector(cf.tangential, touch.normal);
-                                let moment = math::moment(cf.tangential, touch.normal);
-                                if !book.is_empty() {
-                                    let resp = Response {
-                                        force: fw,
-                                        moment,
-                                        couple: AngVector::default(),
-                                        normal: cf.normal,
-                                    };
-                                    terms += params.ledger_terms(
-                                        &contact,
-                                        &before,
-                                        shear,
-                                        &resp,
-                                        dt_shear,
-                                        &prior(),
-                                    );
-                                }
-                                (fw, r * moment)
-                            }
-                        };
-                        if !book.is_empty() {
-                            // The grain receives F·v_i = F·(v_i − v_w) + F·v_w: the law books
-                            // the first, the wall's motion supplies the second.
-                            terms.work += fw.dot(v_wall) * dt_shear;
-                        }
-                        f += fw;
-                        tq += tw;
-                        let arm = at - setup.walls[w].shape.reference();
-                        loads[w].add(-fw, -math::cross(arm, fw));
-                    }
-                    if let Some(b) = book.get_mut(k) {
-                        *b = terms;
-                    }
-                    force[k] = f;
-                    torque[k] = tq;
-                    vel[k] += kick * (inv_mass[i] * f + gravity);
-                    omega[k] += kick * inv_inertia[i] * tq;
-                }
-                loads
-            },
-        )
+        .map(|(c, own)| g.chunk(c, own))
         .collect();
-
     let mut total = vec![WallSum::default(); nw];
     for loads in partial {
-        for (t, l) in total.iter_mut().zip(&loads) {
-            t.merge(l);
-        }
+        merge_loads(&mut total, &loads);
     }
     total
+}
+
+/// Sizes the walls' granular histories for the law before they are split by chunk:
+/// each chunk writes its own run of records.
+pub(crate) fn fit_wall_history(setup: &Setup, list: &mut ContactList, n: usize) {
+    if let Some(table) = setup.granular.as_ref() {
+        list.wall_history.widen(table.history_width());
+        list.wall_history.resize(n * setup.walls.len());
+    }
+}
+
+/// One chunk's own slices of what the gather writes.
+pub(crate) struct Own<'a> {
+    vel: &'a mut [Vector],
+    omega: &'a mut [AngVector],
+    /// In: the row sums the pass left; out: the particles' total forces.
+    force: &'a mut [Vector],
+    /// As `force`, for the torques.
+    torque: &'a mut [AngVector],
+    /// The chunk's wall springs (linear law), `[k * n_walls + w]`.
+    ws: &'a mut [math::Tangent],
+    /// The chunk's wall histories (granular law).
+    wh: NarrowMut<'a>,
+    /// With the ledger: the chunk's rows of wall terms (empty without).
+    book: &'a mut [PassTally],
+}
+
+/// Everything the gather reads, shared by its chunks.
+pub(crate) struct Gather<'a> {
+    setup: &'a Setup,
+    pos: &'a [Vector],
+    radius: &'a [f64],
+    inv_mass: &'a [f64],
+    inv_inertia: &'a [f64],
+    material: &'a [u16],
+    fpair: &'a [Vector],
+    ftan: &'a [AngVector],
+    touch: &'a [u8],
+    slot: &'a [u32],
+    pools: &'a [crate::history::Pool],
+    owner: &'a [u32],
+    rev_row: &'a [u32],
+    rev_entry: &'a [u32],
+    wall_near: &'a [u64],
+    /// The granular law keeps its reactions beside the touching pairs' histories: an
+    /// entry with a slot touches, and its reaction is in its row owner's pool.
+    pooled: bool,
+    /// Most entries of a dilute bed do not touch: reading a flag and skipping them
+    /// beats reading every force; where most touch, the flag's branch would mispredict.
+    sparse: bool,
+    dt_shear: f64,
+    kick: f64,
+}
+
+/// What the gather writes, split from what it reads ([`Gather::split`]).
+pub(crate) struct Written<'a> {
+    vel: &'a mut [Vector],
+    omega: &'a mut [AngVector],
+    force: &'a mut [Vector],
+    torque: &'a mut [AngVector],
+    wall_shear: &'a mut [math::Tangent],
+    wall_history: &'a mut crate::history::Narrow,
+}
+
+impl<'a> Written<'a> {
+    /// Every chunk's slices, in order, with the ledger's `rows` (one per particle) split
+    /// beside them; `granular`: the walls' histories are the law's.
+    fn into_chunks(
+        self,
+        nw: usize,
+        granular: bool,
+        rows: Option<&'a mut [PassTally]>,
+    ) -> Vec<Own<'a>> {
+        let nchunks = self.vel.len().div_ceil(CHUNK);
+        let mut ws = self.wall_shear.chunks_mut((CHUNK * nw).max(1));
+        let mut wh = match granular && nw > 0 {
+            true => self.wall_history.chunks_mut(CHUNK * nw),
+            false => Vec::new(),
+        }
+        .into_iter();
+        let mut book = rows.unwrap_or_default().chunks_mut(CHUNK);
+        self.vel
+            .chunks_mut(CHUNK)
+            .zip(self.omega.chunks_mut(CHUNK))
+            .zip(self.force.chunks_mut(CHUNK))
+            .zip(self.torque.chunks_mut(CHUNK))
+            .map(|(((vel, omega), force), torque)| Own {
+                vel,
+                omega,
+                force,
+                torque,
+                ws: ws.next().unwrap_or_default(),
+                wh: wh.next().unwrap_or_default(),
+                book: book.next().unwrap_or_default(),
+            })
+            .take(nchunks)
+            .collect()
+    }
+
+    /// Chunk `c`'s slices, without the ledger's rows; `granular`: the walls' histories
+    /// are the law's.
+    pub(crate) fn own(&mut self, c: usize, nw: usize, granular: bool) -> Own<'_> {
+        let range = c * CHUNK..((c + 1) * CHUNK).min(self.vel.len());
+        let walls = range.start * nw..range.end * nw;
+        Own {
+            vel: &mut self.vel[range.clone()],
+            omega: &mut self.omega[range.clone()],
+            force: &mut self.force[range.clone()],
+            torque: &mut self.torque[range],
+            ws: match nw {
+                0 => &mut [],
+                _ => &mut self.wall_shear[walls.clone()],
+            },
+            wh: match granular && nw > 0 {
+                true => self.wall_history.slice_mut(walls),
+                false => NarrowMut::default(),
+            },
+            book: &mut [],
+        }
+    }
+}
+
+impl<'a> Gather<'a> {
+    /// The gather over `p` and `list` after their pair pass, beside the fields it
+    /// writes.
+    pub(crate) fn split(
+        setup: &'a Setup,
+        p: &'a mut Particles,
+        list: &'a mut ContactList,
+        dt_shear: f64,
+        kick: f64,
+    ) -> (Self, Written<'a>) {
+        let pooled = setup.granular.is_some() && list.history.kept(list.nbr.len());
+        let sparse = 2 * list.touching < list.nbr.len();
+        let g = Gather {
+            setup,
+            pos: &p.pos,
+            radius: &p.radius,
+            inv_mass: &p.inv_mass,
+            inv_inertia: &p.inv_inertia,
+            material: &p.material,
+            fpair: &list.fpair,
+            ftan: &list.ftan,
+            touch: &list.touch,
+            slot: &list.history.slot,
+            pools: &list.history.pools,
+            owner: &list.owner,
+            rev_row: &list.rev_row,
+            rev_entry: &list.rev_entry,
+            wall_near: &list.wall_near,
+            pooled,
+            sparse,
+            dt_shear,
+            kick,
+        };
+        let w = Written {
+            vel: &mut p.vel,
+            omega: &mut p.omega,
+            force: &mut p.force,
+            torque: &mut p.torque,
+            wall_shear: &mut list.wall_shear,
+            wall_history: &mut list.wall_history,
+        };
+        (g, w)
+    }
+
+    /// Chunk `c`: its particles' reactions, walls and kick; returns its part of each
+    /// wall's load.
+    pub(crate) fn chunk(&self, c: usize, own: Own) -> Vec<WallSum> {
+        let Own {
+            vel,
+            omega,
+            force,
+            torque,
+            ws,
+            mut wh,
+            book,
+        } = own;
+        let (setup, pos, radius, inv_mass, inv_inertia, material) = (
+            self.setup,
+            self.pos,
+            self.radius,
+            self.inv_mass,
+            self.inv_inertia,
+            self.material,
+        );
+        let (fpair, ftan, touch, slot, pools, owner) = (
+            self.fpair, self.ftan, self.touch, self.slot, self.pools, self.owner,
+        );
+        let (rev_row, rev_entry, wall_near) = (self.rev_row, self.rev_entry, self.wall_near);
+        let (pooled, sparse, dt_shear, kick) = (self.pooled, self.sparse, self.dt_shear, self.kick);
+        let gravity = setup.gravity;
+        let nw = setup.walls.len();
+        let granular = setup.granular.as_ref();
+        let mut loads = vec![WallSum::default(); nw];
+        for k in 0..vel.len() {
+            let i = c * CHUNK + k;
+            let mut terms = PassTally::default();
+            let r = radius[i];
+            let mut f = force[k];
+            let mut t_rev = AngVector::default();
+            let rev = &rev_entry[rev_row[i] as usize..rev_row[i + 1] as usize];
+            if pooled {
+                // As the sparse loop below: entries apart are skipped.
+                for &e in rev {
+                    let e = e as usize;
+                    if slot[e] != crate::history::NONE {
+                        let (fp, tp) = pools[owner[e] as usize / CHUNK].reaction(slot[e]);
+                        f -= fp;
+                        t_rev += tp;
+                    }
+                }
+            } else if sparse {
+                // The force of an entry that does not touch is +0, and x − (+0) is
+                // x; a torque sum left at −0 by the skip cannot show either, as the
+                // own-row sum it is added to is never −0 (a sum that starts at +0).
+                for &e in rev {
+                    let e = e as usize;
+                    if touch[e] != 0 {
+                        f -= fpair[e];
+                        t_rev += ftan[e];
+                    }
+                }
+            } else {
+                for &e in rev {
+                    f -= fpair[e as usize];
+                    t_rev += ftan[e as usize];
+                }
+            }
+            let mut tq = torque[k] + r * t_rev;
+            let mut mask = wall_near[i];
+            while mask != 0 {
+                let w = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let shear = &mut ws[k * nw + w];
+                let Some(touch) = setup.walls[w].shape.nearest(pos[i]) else {
+                    continue;
+                };
+                if touch.distance >= r {
+                    *shear = crate::math::Tangent::default();
+                    wh.clear(k * nw + w);
+                    continue;
+                }
+                let m = 1.0 / inv_mass[i];
+                let at = pos[i] + touch.normal * touch.distance;
+                let v_wall = setup.walls[w].surface_velocity(at);
+                let v = vel[k] - v_wall;
+                let prior = || Prior {
+                    overlap: prior_overlap(setup, w, pos[i], r, vel[k], dt_shear),
+                    omega_sum: omega[k],
+                };
+                // A wall is a body of infinite mass and radius that does not turn.
+                let contact = crate::law::Contact {
+                    n: touch.normal,
+                    overlap: r - touch.distance,
+                    r_eff: r,
+                    m_eff: m,
+                    v,
+                    spin: r * omega[k],
+                    w_rel: omega[k],
+                };
+                let (fw, tw) = match granular {
+                    Some(table) => {
+                        let wm = setup.walls[w].material.map_or(material[i], |m| m);
+                        let law = table.get(material[i] as usize, wm as usize);
+                        let mut h = wh.get(k * nw + w);
+                        let before = h;
+                        let resp = law.respond(&contact, &mut h, dt_shear);
+                        wh.set(k * nw + w, &h);
+                        if !book.is_empty() {
+                            terms +=
+                                law.ledger_terms(&contact, &before, &h, &resp, dt_shear, &prior());
+                        }
+                        let arm = r - 0.5 * contact.overlap;
+                        (resp.force, arm * resp.moment + resp.couple)
+                    }
+                    None => {
+                        let params = setup.wall_pair(w, material[i] as usize);
+                        let before = *shear;
+                        let cf = contact_force(
+                            params,
+                            m,
+                            touch.normal,
+                            r - touch.distance,
+                            v,
+                            r * omega[k],
+                            shear,
+                            dt_shear,
+                        );
+                        let fw = -cf.normal * touch.normal
+                            + math::tangent_vector(cf.tangential, touch.normal);
+                        let moment = math::moment(cf.tangential, touch.normal);
+                        if !book.is_empty() {
+                            let resp = Response {
+                                force: fw,
+                                moment,
+                                couple: AngVector::default(),
+                                normal: cf.normal,
+                            };
+                            terms += params.ledger_terms(
+                                &contact,
+                                &before,
+                                shear,
+                                &resp,
+                                dt_shear,
+                                &prior(),
+                            );
+                        }
+                        (fw, r * moment)
+                    }
+                };
+                if !book.is_empty() {
+                    // The grain receives F·v_i = F·(v_i − v_w) + F·v_w: the law books
+                    // the first, the wall's motion supplies the second.
+                    terms.work += fw.dot(v_wall) * dt_shear;
+                }
+                f += fw;
+                tq += tw;
+                let arm = at - setup.walls[w].shape.reference();
+                loads[w].add(-fw, -math::cross(arm, fw));
+            }
+            if let Some(b) = book.get_mut(k) {
+                *b = terms;
+            }
+            force[k] = f;
+            torque[k] = tq;
+            vel[k] += kick * (inv_mass[i] * f + gravity);
+            omega[k] += kick * inv_inertia[i] * tq;
+        }
+        loads
+    }
 }
 
 /// The overlap of a particle (at `x`, radius `r`, drifting at `v`) with wall `w` before

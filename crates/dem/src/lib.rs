@@ -46,6 +46,7 @@ pub mod stress;
 pub mod timestep;
 pub mod verlet;
 pub mod walls;
+pub mod wavefront;
 
 pub use comm::{Exchange, Reduce, Serial};
 pub use contact::{ContactModel, PairParams, PairTable};

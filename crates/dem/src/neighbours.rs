@@ -65,6 +65,12 @@ pub struct ContactList {
     pub rev_row: Vec<u32>,
     /// Entry indices, grouped by partner.
     pub rev_entry: Vec<u32>,
+    /// Per chunk of particles: the last chunk whose rows hold an entry with a partner
+    /// in it (never less than the chunk itself). Once that chunk's pass is done, no
+    /// later pass reads these particles or writes a reaction onto them, so their
+    /// gather and kick may run while the reactions are still in cache
+    /// ([`crate::wavefront`]).
+    pub gather_after: Vec<u32>,
     /// Bit w is set when wall w may touch the particle before the next rebuild.
     pub wall_near: Vec<u64>,
     /// Tangential spring of each particle–wall pair, `[i * n_walls + w]`.
@@ -451,6 +457,13 @@ impl ContactList {
             group.sort_unstable_by_key(|&e| id[owner[e as usize] as usize]);
             rest = tail;
         }
+        self.gather_after = (0..n.div_ceil(CHUNK))
+            .map(|c| {
+                let rev = rev_row[c * CHUNK] as usize..rev_row[((c + 1) * CHUNK).min(n)] as usize;
+                let last = self.rev_entry[rev].iter().map(|&e| owner[e as usize]).max();
+                last.map_or(c, |i| (i as usize / CHUNK).max(c)) as u32
+            })
+            .collect();
     }
 
     /// Sizes `touch` to the list: a list read back from a checkpoint has no flags, and

@@ -15,6 +15,7 @@ use crate::neighbours::ContactList;
 use crate::particles::Particles;
 use crate::setup::Setup;
 use crate::walls::Pose;
+use crate::wavefront;
 
 /// Everything that evolves during a run.
 #[derive(Clone, Debug, Default)]
@@ -75,6 +76,13 @@ pub trait Hooks {
     /// to `particles.force` (and torques to `particles.torque`).
     fn post_force(&mut self, _particles: &mut Particles) {}
 
+    /// Whether [`Hooks::post_force`] (or [`Hooks::post_force_on`]) may add a force or a
+    /// torque; default yes. A step whose hooks add none gathers each chunk's reactions
+    /// as soon as the passes that write them are done ([`crate::wavefront`]).
+    fn adds_forces(&self) -> bool {
+        true
+    }
+
     /// [`Hooks::post_force`] on one rank of several: `comm` reduces over the ranks and
     /// tells which stored particles are this rank's own (a ghost's force is its owner's
     /// to compute; the ghost takes it at the end of the step). Default:
@@ -100,7 +108,11 @@ pub enum ListChange {
 /// No outside forces.
 pub struct NoHooks;
 
-impl Hooks for NoHooks {}
+impl Hooks for NoHooks {
+    fn adds_forces(&self) -> bool {
+        false
+    }
+}
 
 /// Advances the state by one time step `dt`.
 pub fn step(setup: &Setup, s: &mut State, dt: f64) {
@@ -131,9 +143,15 @@ pub fn step_on<H: Hooks, C: Exchange>(
     let (change, displacement) = neighbours(setup, s, &drift, hooks, comm);
     hooks.post_neighbour(&s.particles, change, displacement);
     let ledger = s.ledger.is_some();
-    pair_contacts(setup, &mut s.particles, &mut s.contacts, dt, ledger);
-    hooks.post_force_on(&mut s.particles, &*comm);
+    let fused = !ledger && !hooks.adds_forces() && wavefront::applies(&s.particles, &s.contacts);
+    if !fused {
+        pair_contacts(setup, &mut s.particles, &mut s.contacts, dt, ledger);
+        hooks.post_force_on(&mut s.particles, &*comm);
+    }
     let parts = match ledger {
+        false if fused => {
+            wavefront::pair_contacts_gather_kick(setup, &mut s.particles, &mut s.contacts, dt)
+        }
         false => walls_gather_kick(setup, &mut s.particles, &mut s.contacts, dt, 0.5 * dt, None),
         true => {
             let list = &mut s.contacts;

@@ -95,6 +95,8 @@ fn checkpoint_and_resume_is_bitwise_identical() {
     assert!(grains_dem::checkpoint::read(&mut &bad[..], 10_000).is_err());
 }
 
+/// One thread takes the pass and the gather in one sweep (`wavefront`), two and three
+/// take them as two phases: the same bits either way.
 #[test]
 fn bitwise_identical_for_1_2_3_threads() {
     let a = run(1);

@@ -119,8 +119,9 @@ fn granular_bed_is_bitwise_on_threads_and_through_a_checkpoint() {
     granular_bed_is_bitwise(law);
 }
 
-/// The granular `law` on a bed: the same state on 1, 2 and 3 threads, and through a
-/// checkpoint.
+/// The granular `law` on a bed: the same state on 1, 2 and 3 threads (one takes the
+/// pass and the gather in one sweep, `wavefront`; two and three in two phases), and
+/// through a checkpoint.
 fn granular_bed_is_bitwise(law: grains_dem3d::granular::GranularParams) {
     use grains_dem3d::PairTable;
     let granular_bed = || {
