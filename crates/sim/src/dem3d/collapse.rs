@@ -5,12 +5,13 @@
 //!
 //! The figures, all about the tube's axis: R0 is the tube's radius; H0 the height of the
 //! column at the last history sample before the release, from the lowest sphere bottom
-//! to the level below which 99 % of the sphere tops lie; R∞ at the end, the radius within
-//! which 99 % of the spheres' outer edges lie. Lube et al. take the deposit's front,
-//! where the continuous deposit ends; the 99 % radius is that front with the few grains
-//! that roll off alone on the floor left out, which a small column has in proportion
-//! more of than their columns of 10⁵–10⁷ grains.
+//! to the level below which 99 % of the sphere tops lie; R∞ at the end, the edge of the
+//! continuous deposit ([`super::deposit`]: where the grains' azimuthally averaged
+//! coverage of the floor first falls below one half), which Lube et al. measure. Beside
+//! it, as figures only, the radius within which 99 % of the spheres' outer edges lie
+//! (the measure used before the edge) and the outermost sphere edge.
 
+use super::deposit;
 use super::scenario::{Scenario, WallSpec};
 use super::Dem3;
 use glam::DVec3;
@@ -18,7 +19,7 @@ use grains_core::input::InputError;
 use grains_dem3d::{Setup, WallShape};
 use serde::{Deserialize, Serialize};
 
-/// The fraction of the spheres within the column's height and the deposit's radius.
+/// The fraction of the spheres within the column's height and the 99 % radius.
 pub const HOLDING: f64 = 0.99;
 
 /// Lube et al.'s run-out (R∞ − R0)/R0 of a column of aspect ratio `a` = H0/R0.
@@ -95,21 +96,48 @@ impl RunoutWatch {
         self.h0 = holding((0..p.len()).map(|i| h[i] + p.radius[i]).collect()) - base;
     }
 
-    /// The deposit's radius R∞ now (m) and its front, the outermost sphere edge (m).
-    pub fn radius(&self, sim: &Dem3) -> (f64, f64) {
+    /// The deposit now about the tube's axis ([`Deposit`]).
+    pub fn deposit(&self, sim: &Dem3) -> Deposit {
         let Some((c, u)) = axis(&sim.setup, self.wall) else {
-            return (f64::NAN, f64::NAN);
+            return Deposit::NAN;
         };
         let p = &sim.state.particles;
-        let edges: Vec<f64> = (0..p.len())
+        let s: Vec<f64> = (0..p.len())
             .map(|i| {
                 let d = p.pos[i] - c;
-                (d - d.dot(u) * u).length() + p.radius[i]
+                (d - d.dot(u) * u).length()
             })
             .collect();
+        let edges: Vec<f64> = (0..p.len()).map(|i| s[i] + p.radius[i]).collect();
         let front = edges.iter().copied().fold(f64::NAN, f64::max);
-        (holding(edges), front)
+        // Rings one mean grain diameter wide.
+        let width = 2.0 * p.radius.iter().sum::<f64>() / p.len() as f64;
+        Deposit {
+            edge: deposit::edge(&deposit::coverage(&s, &p.radius, width), width),
+            r99: holding(edges),
+            front,
+        }
     }
+}
+
+/// A deposit's radii about the tube's axis (m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Deposit {
+    /// R∞: where the continuous deposit ends ([`deposit::edge`]).
+    pub edge: f64,
+    /// The radius within which [`HOLDING`] of the spheres' outer edges lie.
+    pub r99: f64,
+    /// The outermost sphere edge.
+    pub front: f64,
+}
+
+impl Deposit {
+    /// No deposit to measure.
+    pub const NAN: Deposit = Deposit {
+        edge: f64::NAN,
+        r99: f64::NAN,
+        front: f64::NAN,
+    };
 }
 
 /// Checks a `runout` check's wall (`wall`, its index among the assembled walls): a
