@@ -1,14 +1,16 @@
 //! Where a spread deposit of spheres ends: the edge of its continuous part, read from
 //! how much of the floor the grains cover, ring by ring about an axis.
 //!
-//! An experiment such as Lube et al.'s (J. Fluid Mech. 508, 2004) sees the deposit from
-//! above and takes its edge where the floor stops being covered by it; the few grains
-//! that rolled away alone lie on bare floor beyond and are not the deposit. Here the
-//! floor is cut into rings one mean grain diameter wide; a ring's coverage is the grains'
-//! projected area within it over its area (above 1 where grains stack). Going out from
-//! the axis, the deposit ends where the coverage first falls below [`COVERED`], the
-//! level half-way between bare floor and floor under grains: the edge an image of the
-//! deposit shows at half contrast. The crossing is interpolated between ring centres.
+//! The run-out of Lube et al. (J. Fluid Mech. 508, 2004) is read here as the front of the
+//! continuous deposit (their own wording was not at hand: VALIDATION.md); grains that
+//! rolled away alone lie on bare floor beyond it and are not the deposit, however far
+//! they went. Here the floor is cut into rings one mean grain diameter wide; a ring's
+//! coverage is the grains' projected area within it over its area (above 1 where grains
+//! stack). Going out from the axis, the deposit ends where the coverage first falls
+//! below [`COVERED`], the level half-way between bare floor and floor under grains (the
+//! edge a picture of the deposit shows at half contrast, and about where hard discs on a
+//! plane can first form a connected layer: their random sequential packing jams at
+//! 0.547). The crossing is interpolated between ring centres.
 
 /// The coverage (grain projected area over floor area, azimuthally averaged) below
 /// which the floor counts as bare: half of it under grains.
