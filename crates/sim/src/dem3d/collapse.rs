@@ -7,9 +7,9 @@
 //! column at the last history sample before the release, from the lowest sphere bottom
 //! to the level below which 99 % of the sphere tops lie; R∞ at the end, the edge of the
 //! continuous deposit ([`super::deposit`]: where the grains' azimuthally averaged
-//! coverage of the floor first falls below one half), as Lube et al.'s run-out is read. Beside
-//! it, as figures only, the radius within which 99 % of the spheres' outer edges lie
-//! (the measure used before the edge) and the outermost sphere edge.
+//! coverage of the floor first falls below one half), as Lube et al.'s run-out is read.
+//! Beside it, as figures only, the radius within which 99 % of the spheres' outer edges
+//! lie (the measure used before the edge) and the outermost sphere edge.
 
 use super::deposit;
 use super::scenario::{Scenario, WallSpec};
