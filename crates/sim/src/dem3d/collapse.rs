@@ -5,11 +5,18 @@
 //!
 //! The figures, all about the tube's axis: R0 is the tube's radius; H0 the height of the
 //! column at the last history sample before the release, from the lowest sphere bottom
-//! to the level below which 99 % of the sphere tops lie; R∞ at the end, the edge of the
-//! continuous deposit ([`super::deposit`]: where the grains' azimuthally averaged
-//! coverage of the floor first falls below one half), as Lube et al.'s run-out is read.
-//! Beside it, as figures only, the radius within which 99 % of the spheres' outer edges
-//! lie (the measure used before the edge) and the outermost sphere edge.
+//! to the level below which 99 % of the sphere tops lie; R∞ at the end, the radius within
+//! which 99 % of the spheres' outer edges lie. Lube et al. take the deposit's front,
+//! where the continuous deposit ends; the 99 % radius is that front with the few grains
+//! that roll off alone on the floor left out, which a small column has in proportion
+//! more of than their columns of 10⁵–10⁷ grains.
+//!
+//! Beside R∞, as a figure only, the edge of the continuous deposit ([`super::deposit`]:
+//! where the grains' azimuthally averaged coverage of the floor first falls below
+//! [`deposit::COVERED`]), one reading of Lube et al.'s front. It does not replace R∞ in
+//! the check: Lube et al.'s own definition could not be read, so the reading is
+//! unverified, and it moves by more than the check's tolerance with its threshold
+//! (VALIDATION.md, "Column collapse"). The outermost sphere edge is a figure too.
 
 use super::deposit;
 use super::scenario::{Scenario, WallSpec};
@@ -19,7 +26,7 @@ use grains_core::input::InputError;
 use grains_dem3d::{Setup, WallShape};
 use serde::{Deserialize, Serialize};
 
-/// The fraction of the spheres within the column's height and the 99 % radius.
+/// The fraction of the spheres within the column's height and the deposit's radius.
 pub const HOLDING: f64 = 0.99;
 
 /// Lube et al.'s run-out (R∞ − R0)/R0 of a column of aspect ratio `a` = H0/R0.
@@ -123,9 +130,10 @@ impl RunoutWatch {
 /// A deposit's radii about the tube's axis (m).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Deposit {
-    /// R∞: where the continuous deposit ends ([`deposit::edge`]).
+    /// Where the continuous deposit ends ([`deposit::edge`]); a figure, not the check's.
     pub edge: f64,
-    /// The radius within which [`HOLDING`] of the spheres' outer edges lie.
+    /// R∞, the check's: the radius within which [`HOLDING`] of the spheres' outer edges
+    /// lie.
     pub r99: f64,
     /// The outermost sphere edge.
     pub front: f64,

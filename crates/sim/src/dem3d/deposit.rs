@@ -1,8 +1,9 @@
 //! Where a spread deposit of spheres ends: the edge of its continuous part, read from
 //! how much of the floor the grains cover, ring by ring about an axis.
 //!
-//! The run-out of Lube et al. (J. Fluid Mech. 508, 2004) is read here as the front of the
-//! continuous deposit (their own wording was not at hand: VALIDATION.md); grains that
+//! One reading of Lube et al.'s (J. Fluid Mech. 508, 2004) run-out, the front of the
+//! continuous deposit (their own wording was not at hand: VALIDATION.md), reported as a
+//! figure beside the collapse's check, which keeps the 99 % radius; grains that
 //! rolled away alone lie on bare floor beyond it and are not the deposit, however far
 //! they went. Here the floor is cut into rings one mean grain diameter wide; a ring's
 //! coverage is the grains' projected area within it over its area (above 1 where grains

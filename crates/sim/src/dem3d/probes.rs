@@ -2,6 +2,7 @@
 //! [`crate::collision`]), the load on a wall, drums, silos, pours and collapses.
 
 use super::collapse::{lube, Deposit, RunoutWatch};
+use super::deposit;
 use super::drum::DrumWatch;
 use super::scenario::CheckSpec;
 use super::silo::{beverloo, orifice, DischargeWatch};
@@ -263,14 +264,18 @@ impl Observer<Dem3> for Probes {
                         ("r0_m", r0),
                         ("h0_m", h0),
                         ("aspect_ratio", a),
-                        ("r_inf_m", d.edge),
-                        ("r99_m", d.r99),
+                        ("r_inf_m", d.r99),
                         ("front_m", d.front),
                         ("lube", lube(a)),
+                        // The deposit's edge beside the check, not in it (collapse.rs
+                        // says why), with the coverage that sets it.
+                        ("edge_m", d.edge),
+                        ("edge_coverage", deposit::COVERED),
+                        ("runout_edge", (d.edge - r0) / r0),
                     ] {
                         report.figures.insert(format!("{name}_{key}"), v.into());
                     }
-                    Check::relative(name, (d.edge - r0) / r0, lube(a), tol)
+                    Check::relative(name, (d.r99 - r0) / r0, lube(a), tol)
                 }
                 (CheckSpec::DrumTorque { .. }, _) => {
                     let r = self.drums[k]
