@@ -5,7 +5,10 @@ columns of COUNTS spheres (the same tube, R0 = 20 mm = 5 d; the fill's height, t
 release time and the duration grown with the count), reads each run's figures from its
 summary.json, runs examples/dem3d/collapse.toml as it is (R0 = 30 mm = 7.5 d: the
 same column 1.5 times wider in grains), and writes OUT.csv (columns count,
-aspect_ratio, h0_m, r0_m, r_inf_m, front_m, runout, lube, r0_over_d). Then
+aspect_ratio, h0_m, r0_m, r_inf_m, edge_m, front_m, runout, runout_edge, lube, r0_over_d:
+r_inf_m is the radius holding 99 % of the spheres' edges the check takes, edge_m the
+edge of the continuous deposit, a figure beside it, runout and runout_edge their
+(R - R0)/R0). Then
 `cargo run -p grains-sim --example collapse_runout -- OUT.csv` draws OUT.png.
 
 With --wide, also `collapse.toml` scaled 1.5 and 2 times (R0/d = 11.25 and 15, 13 k and
@@ -42,10 +45,11 @@ def record(n, summary):
     g = lambda k: f['runout_over_lube_' + k]
     a = g('aspect_ratio')
     runout = (g('r_inf_m') - g('r0_m')) / g('r0_m')
-    rows.append((n, a, g('h0_m'), g('r0_m'), g('r_inf_m'), g('front_m'), runout, g('lube'),
-                 g('r0_m') / D))
+    runout_edge = (g('edge_m') - g('r0_m')) / g('r0_m')
+    rows.append((n, a, g('h0_m'), g('r0_m'), g('r_inf_m'), g('edge_m'), g('front_m'), runout,
+                 runout_edge, g('lube'), g('r0_m') / D))
     print(f'n {n:5}  R0/d {g("r0_m") / D:4.1f}  a {a:5.2f}  (R_inf - R0)/R0 {runout:5.2f}  '
-          f'Lube {g("lube"):5.2f}')
+          f'edge {runout_edge:5.2f}  Lube {g("lube"):5.2f}')
 
 
 for n in COUNTS:
@@ -83,7 +87,9 @@ for f in ([1.5, 2.0] if wide else []):
     n, text = widened(f)
     record(n, run(grains, text, work, f'collapse_x{f}'))
 with open(out, 'w') as f:
-    f.write('count,aspect_ratio,h0_m,r0_m,r_inf_m,front_m,runout,lube,r0_over_d\n')
+    f.write('count,aspect_ratio,h0_m,r0_m,r_inf_m,edge_m,front_m,runout,runout_edge,lube,'
+            'r0_over_d\n')
     for r in rows:
-        f.write('{},{:.4f},{:.5f},{:.5f},{:.5f},{:.5f},{:.4f},{:.4f},{:.2f}\n'.format(*r))
+        f.write('{},{:.4f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.4f},{:.4f},{:.4f},{:.2f}\n'
+                .format(*r))
 print(out)

@@ -5,8 +5,17 @@
 mod common;
 use common::*;
 
-/// Runs `examples/dem3d/NAME.toml`: its summary and its history's header.
+/// Runs `examples/dem3d/NAME.toml`, which passes its checks: its summary and its
+/// history's header.
 fn run_dem3d_example(name: &str, checks: usize) -> (serde_json::Value, String) {
+    let (code, s, header) = run_dem3d(name, checks);
+    assert_eq!(code, 0, "{name} failed: {s}");
+    (s, header)
+}
+
+/// Runs `examples/dem3d/NAME.toml` and checks its outputs: its exit code (0, or 2 with a
+/// failed check), summary and history's header.
+fn run_dem3d(name: &str, checks: usize) -> (i32, serde_json::Value, String) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let o = grains(&[
@@ -15,14 +24,12 @@ fn run_dem3d_example(name: &str, checks: usize) -> (serde_json::Value, String) {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(o.code, 0, "{name} failed: {}", o.stderr);
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let all = s["checks"].as_array().unwrap();
     assert_eq!(all.len(), checks, "{name}");
-    for c in all {
-        assert_eq!(c["pass"], true, "{name}: {c}");
-    }
+    let failed = all.iter().any(|c| c["pass"] != true);
+    assert_eq!(o.code, if failed { 2 } else { 0 }, "{name}: {}", o.stderr);
     for f in [
         "plots/particles_side.png",
         "plots/particles_top.png",
@@ -42,7 +49,7 @@ fn run_dem3d_example(name: &str, checks: usize) -> (serde_json::Value, String) {
         "{name}"
     );
     let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
-    (s, history.lines().next().unwrap_or("").to_string())
+    (o.code, s, history.lines().next().unwrap_or("").to_string())
 }
 
 #[test]
@@ -119,19 +126,22 @@ fn pour_small() {
 }
 
 /// The small column collapses once its tube is released: the tube carries no load at
-/// the end, and the run-out matches Lube et al.'s within the example's tolerance.
+/// the end, and the run-out matches Lube et al.'s within the example's tolerance. The
+/// edge of the continuous deposit, a figure beside the check, lies within the grains
+/// and short of the 99 % radius (VALIDATION.md, "Column collapse").
 #[test]
 fn collapse_small() {
     let (s, header) = run_dem3d_example("collapse_small", 1);
     assert!(header.contains("tube_fx"), "{header}");
     let f = &s["figures"];
-    let a = f["runout_over_lube_aspect_ratio"].as_f64().unwrap();
+    let g = |k: &str| f[format!("runout_over_lube_{k}")].as_f64().unwrap();
+    let a = g("aspect_ratio");
     assert!(a > 1.0 && a < 1.7, "{s}");
-    let (r0, r) = (
-        f["runout_over_lube_r0_m"].as_f64().unwrap(),
-        f["runout_over_lube_r_inf_m"].as_f64().unwrap(),
-    );
+    let (r0, r, edge, front) = (g("r0_m"), g("r_inf_m"), g("edge_m"), g("front_m"));
     assert!(r > 2.0 * r0, "{s}");
+    assert!(r0 < edge && edge < r && r <= front, "{s}");
+    assert_eq!(g("edge_coverage"), 0.5, "{s}");
+    assert_eq!(g("runout_edge"), (edge - r0) / r0, "{s}");
 }
 
 #[test]

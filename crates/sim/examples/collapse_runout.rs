@@ -1,8 +1,11 @@
 //! Column collapse: the run-out (R∞ − R0)/R0 against the aspect ratio a = H0/R0 from the
 //! CSV `bench/collapse_sweep.py` writes (columns count, aspect_ratio, h0_m, r0_m,
-//! r_inf_m, front_m, runout, lube, r0_over_d), beside Lube et al.'s two laws (1.24 a
-//! below a = 1.7, 1.6 a^{1/2} above) and their ±15 % scatter; the PNG is written beside
-//! the CSV.
+//! r_inf_m, edge_m, front_m, runout, runout_edge, lube, r0_over_d), beside Lube et al.'s
+//! two laws (1.24 a below a = 1.7, 1.6 a^{1/2} above) and their ±15 % scatter: R∞ as the
+//! radius holding 99 % of the grains (the check's, upright crosses, one series per
+//! column width in grains) and, as a figure only, as the edge of the continuous deposit
+//! at half coverage (diagonal crosses; a run whose edge was not measured has none); the
+//! PNG is written beside the CSV.
 //!
 //! `cargo run -p grains-sim --example collapse_runout -- docs/figures/collapse_runout.csv`
 
@@ -24,8 +27,9 @@ fn main() -> anyhow::Result<()> {
             .ok_or_else(|| anyhow::anyhow!("{}: no column {name}", csv.display()))
     };
     let (ka, kr, kw) = (col("aspect_ratio")?, col("runout")?, col("r0_over_d")?);
-    // (a, run-out, R0/d) of each run.
-    let rows: Vec<[f64; 3]> = table.iter().map(|r| [r[ka], r[kr], r[kw]]).collect();
+    let ke = col("runout_edge")?;
+    // (a, run-out, R0/d, run-out to the deposit's edge) of each run.
+    let rows: Vec<[f64; 4]> = table.iter().map(|r| [r[ka], r[kr], r[kw], r[ke]]).collect();
     let top = rows.iter().map(|r| r[0]).fold(3.0, f64::max) * 1.1;
     let a: Vec<f64> = (0..=240).map(|k| top * k as f64 / 240.0).collect();
     let law: Vec<f64> = a.iter().map(|&a| lube(a)).collect();
@@ -35,34 +39,53 @@ fn main() -> anyhow::Result<()> {
     // broken by NaN: the plot joins points within a series, and markers would draw
     // Lube's curves as dots).
     let (dx, dy) = (0.025 * top, 0.06);
-    let cross = |r: &[f64; 3]| -> ([f64; 6], [f64; 6]) {
+    let cross = |r: &[f64; 4]| -> ([f64; 6], [f64; 6]) {
         let (a, y) = (r[0], r[1]);
         (
             [a - dx, a + dx, f64::NAN, a, a, f64::NAN],
             [y, y, f64::NAN, y - dy, y + dy, f64::NAN],
         )
     };
+    // The edge's run-outs as diagonal crosses, so the two measures stay apart where
+    // they are close.
+    let diagonal = |r: &[f64; 4]| -> ([f64; 6], [f64; 6]) {
+        let (a, y) = (r[0], r[3]);
+        let (dx, dy) = (0.7 * dx, 0.7 * dy);
+        (
+            [a - dx, a + dx, f64::NAN, a - dx, a + dx, f64::NAN],
+            [y - dy, y + dy, f64::NAN, y + dy, y - dy, f64::NAN],
+        )
+    };
+    let edges: (Vec<f64>, Vec<f64>) = (
+        rows.iter().flat_map(|r| diagonal(r).0).collect(),
+        rows.iter().flat_map(|r| diagonal(r).1).collect(),
+    );
     let mut widths: Vec<f64> = rows.iter().map(|r| r[2]).collect();
     widths.sort_by(f64::total_cmp);
     widths.dedup();
     let runs: Vec<(String, Vec<f64>, Vec<f64>)> = widths
         .iter()
         .map(|&w| {
-            let r: Vec<&[f64; 3]> = rows.iter().filter(|r| r[2] == w).collect();
+            let r: Vec<&[f64; 4]> = rows.iter().filter(|r| r[2] == w).collect();
             (
-                format!("grains, R0/d = {w} (one run each)"),
+                format!("grains, 99 % radius (the check's R∞), R0/d = {w} (one run each)"),
                 r.iter().flat_map(|r| cross(r).0).collect(),
                 r.iter().flat_map(|r| cross(r).1).collect(),
             )
         })
         .collect();
-    // The runs drawn in the palette's second and third colours, the band after them.
+    // The runs drawn in the palette's colours after the law's, the band after them.
     let mut series = vec![Series {
         name: "Lube et al. 2004: 1.24 a (a < 1.7), 1.6 a^1/2",
         x: &a,
         y: &law,
     }];
     series.extend(runs.iter().map(|(name, x, y)| Series { name, x, y }));
+    series.push(Series {
+        name: "grains, deposit edge at half coverage (a figure, not the check; all R0/d)",
+        x: &edges.0,
+        y: &edges.1,
+    });
     series.push(Series {
         name: "Lube et al. + 15 %",
         x: &a,

@@ -10,7 +10,15 @@
 //! where the continuous deposit ends; the 99 % radius is that front with the few grains
 //! that roll off alone on the floor left out, which a small column has in proportion
 //! more of than their columns of 10⁵–10⁷ grains.
+//!
+//! Beside R∞, as a figure only, the edge of the continuous deposit ([`super::deposit`]:
+//! where the grains' azimuthally averaged coverage of the floor first falls below
+//! [`deposit::COVERED`]), one reading of Lube et al.'s front. It does not replace R∞ in
+//! the check: Lube et al.'s own definition could not be read, so the reading is
+//! unverified, and it moves by more than the check's tolerance with its threshold
+//! (VALIDATION.md, "Column collapse"). The outermost sphere edge is a figure too.
 
+use super::deposit;
 use super::scenario::{Scenario, WallSpec};
 use super::Dem3;
 use glam::DVec3;
@@ -95,21 +103,49 @@ impl RunoutWatch {
         self.h0 = holding((0..p.len()).map(|i| h[i] + p.radius[i]).collect()) - base;
     }
 
-    /// The deposit's radius R∞ now (m) and its front, the outermost sphere edge (m).
-    pub fn radius(&self, sim: &Dem3) -> (f64, f64) {
+    /// The deposit now about the tube's axis ([`Deposit`]).
+    pub fn deposit(&self, sim: &Dem3) -> Deposit {
         let Some((c, u)) = axis(&sim.setup, self.wall) else {
-            return (f64::NAN, f64::NAN);
+            return Deposit::NAN;
         };
         let p = &sim.state.particles;
-        let edges: Vec<f64> = (0..p.len())
+        let s: Vec<f64> = (0..p.len())
             .map(|i| {
                 let d = p.pos[i] - c;
-                (d - d.dot(u) * u).length() + p.radius[i]
+                (d - d.dot(u) * u).length()
             })
             .collect();
+        let edges: Vec<f64> = (0..p.len()).map(|i| s[i] + p.radius[i]).collect();
         let front = edges.iter().copied().fold(f64::NAN, f64::max);
-        (holding(edges), front)
+        // Rings one mean grain diameter wide.
+        let width = 2.0 * p.radius.iter().sum::<f64>() / p.len() as f64;
+        Deposit {
+            edge: deposit::edge(&deposit::coverage(&s, &p.radius, width), width),
+            r99: holding(edges),
+            front,
+        }
     }
+}
+
+/// A deposit's radii about the tube's axis (m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Deposit {
+    /// Where the continuous deposit ends ([`deposit::edge`]); a figure, not the check's.
+    pub edge: f64,
+    /// R∞, the check's: the radius within which [`HOLDING`] of the spheres' outer edges
+    /// lie.
+    pub r99: f64,
+    /// The outermost sphere edge.
+    pub front: f64,
+}
+
+impl Deposit {
+    /// No deposit to measure.
+    pub const NAN: Deposit = Deposit {
+        edge: f64::NAN,
+        r99: f64::NAN,
+        front: f64::NAN,
+    };
 }
 
 /// Checks a `runout` check's wall (`wall`, its index among the assembled walls): a

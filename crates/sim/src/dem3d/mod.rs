@@ -6,6 +6,7 @@
 
 pub mod assemble;
 pub mod collapse;
+pub mod deposit;
 pub mod drum;
 pub mod ledger;
 pub mod output;

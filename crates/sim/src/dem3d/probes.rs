@@ -1,7 +1,8 @@
 //! The 3D scenario's checks: collisions (the watch both dimensions share,
 //! [`crate::collision`]), the load on a wall, drums, silos, pours and collapses.
 
-use super::collapse::{lube, RunoutWatch};
+use super::collapse::{lube, Deposit, RunoutWatch};
+use super::deposit;
 use super::drum::DrumWatch;
 use super::scenario::CheckSpec;
 use super::silo::{beverloo, orifice, DischargeWatch};
@@ -254,22 +255,27 @@ impl Observer<Dem3> for Probes {
                     Check::relative(name, inside, total, tol)
                 }
                 (CheckSpec::Runout { .. }, _) => {
-                    let (r0, h0, (r, front)) = match &self.columns[k] {
-                        Some(c) => (c.r0, c.h0, c.radius(sim)),
-                        None => (f64::NAN, f64::NAN, (f64::NAN, f64::NAN)),
+                    let (r0, h0, d) = match &self.columns[k] {
+                        Some(c) => (c.r0, c.h0, c.deposit(sim)),
+                        None => (f64::NAN, f64::NAN, Deposit::NAN),
                     };
                     let a = h0 / r0;
                     for (key, v) in [
                         ("r0_m", r0),
                         ("h0_m", h0),
                         ("aspect_ratio", a),
-                        ("r_inf_m", r),
-                        ("front_m", front),
+                        ("r_inf_m", d.r99),
+                        ("front_m", d.front),
                         ("lube", lube(a)),
+                        // The deposit's edge beside the check, not in it (collapse.rs
+                        // says why), with the coverage that sets it.
+                        ("edge_m", d.edge),
+                        ("edge_coverage", deposit::COVERED),
+                        ("runout_edge", (d.edge - r0) / r0),
                     ] {
                         report.figures.insert(format!("{name}_{key}"), v.into());
                     }
-                    Check::relative(name, (r - r0) / r0, lube(a), tol)
+                    Check::relative(name, (d.r99 - r0) / r0, lube(a), tol)
                 }
                 (CheckSpec::DrumTorque { .. }, _) => {
                     let r = self.drums[k]
