@@ -29,6 +29,7 @@ pub mod local;
 pub mod traffic;
 pub mod words;
 
+pub use gather::picked;
 pub use grid::{GridError, RankGrid};
 
 use crate::comm::{Exchange, Post, Reduce};

@@ -15,7 +15,7 @@ use super::scenario::{Scenario, WallSpec};
 use super::Dem3;
 use glam::DVec3;
 use grains_core::input::InputError;
-use grains_dem3d::{Setup, WallShape};
+use grains_dem3d::{Particles, Setup, WallShape};
 use serde::{Deserialize, Serialize};
 
 /// The fraction of the spheres within the column's height and the deposit's radius.
@@ -78,16 +78,21 @@ impl RunoutWatch {
         }
     }
 
-    /// Takes one sample: the column's height while the tube holds it.
-    pub fn sample(&mut self, sim: &Dem3) {
-        if sim.state.time > self.release {
+    /// Whether it samples at `time`: while the tube holds the column.
+    pub fn wants(&self, time: f64) -> bool {
+        time <= self.release
+    }
+
+    /// Takes one sample of every sphere, `p`: the column's height while the tube holds
+    /// it.
+    pub fn sample(&mut self, sim: &Dem3, p: &Particles) {
+        if !self.wants(sim.state.time) {
             return;
         }
         let Some((c, _)) = axis(&sim.setup, self.wall) else {
             return;
         };
         let up = -sim.setup.gravity.normalize_or_zero();
-        let p = &sim.state.particles;
         let h: Vec<f64> = (0..p.len()).map(|i| (p.pos[i] - c).dot(up)).collect();
         let base = (0..p.len())
             .map(|i| h[i] - p.radius[i])
@@ -95,12 +100,12 @@ impl RunoutWatch {
         self.h0 = holding((0..p.len()).map(|i| h[i] + p.radius[i]).collect()) - base;
     }
 
-    /// The deposit's radius R∞ now (m) and its front, the outermost sphere edge (m).
-    pub fn radius(&self, sim: &Dem3) -> (f64, f64) {
+    /// The deposit's radius R∞ of the spheres `p` (m) and its front, the outermost
+    /// sphere edge (m).
+    pub fn radius(&self, sim: &Dem3, p: &Particles) -> (f64, f64) {
         let Some((c, u)) = axis(&sim.setup, self.wall) else {
             return (f64::NAN, f64::NAN);
         };
-        let p = &sim.state.particles;
         let edges: Vec<f64> = (0..p.len())
             .map(|i| {
                 let d = p.pos[i] - c;

@@ -79,6 +79,22 @@ impl Dem3 {
         Ok(Self::resumed(setup, state, dt))
     }
 
+    /// The spheres that `pick` names by id, in ascending id, whether the run is here or
+    /// spread over ranks (then on every rank: every rank must ask at the same point with
+    /// the same `pick`); what the probes read ([`ranks::watched`]).
+    pub fn watched(&self, pick: impl Fn(u32) -> bool) -> Particles {
+        ranks::watched(self.ranks.as_deref(), &self.state, pick)
+    }
+
+    /// The run's figures now, over every rank (on every rank: a collective), the serial
+    /// ones bit for bit.
+    pub fn measured(&self) -> Diagnostics {
+        match &self.ranks {
+            Some(part) => part.sample(&self.setup),
+            None => diagnostics::measure(&self.setup, &self.state),
+        }
+    }
+
     /// Continues from a checkpointed state.
     pub fn resumed(mut setup: Setup, state: State, dt: f64) -> Self {
         // The walls where the state has them (its poses: the straight run's bits).
@@ -137,16 +153,11 @@ impl Simulation for Dem3 {
     }
 
     fn sample(&mut self) -> Diagnostics {
-        match &self.ranks {
-            Some(part) => {
-                self.ledger = part.ledger_figures();
-                part.sample(&self.setup)
-            }
-            None => {
-                self.ledger = grains_dem3d::ledger_sums::figures(&self.state);
-                diagnostics::measure(&self.setup, &self.state)
-            }
-        }
+        self.ledger = match &self.ranks {
+            Some(part) => part.ledger_figures(),
+            None => grains_dem3d::ledger_sums::figures(&self.state),
+        };
+        self.measured()
     }
 
     fn unstable(&self, d: &Diagnostics) -> Option<String> {

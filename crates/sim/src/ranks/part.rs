@@ -15,7 +15,9 @@ use super::engine::decomp::{Decomposed, GridError};
 use super::engine::diagnostics::Diagnostics;
 use super::engine::ledger_sums::{self, LedgerSums};
 use super::engine::math::DIM;
-use super::engine::{step_on, EnergyLedger, Exchange, Hooks, NoHooks, Reduce, Setup, State};
+use super::engine::{
+    step_on, EnergyLedger, Exchange, Hooks, NoHooks, Particles, Reduce, Setup, State,
+};
 use crate::ranks::comm::{Comm, PerStep};
 use crate::ranks::Link;
 use serde::{Deserialize, Serialize};
@@ -248,11 +250,29 @@ impl Part {
         }
     }
 
+    /// The particles that `pick` names by id, of every rank, on every rank, in ascending
+    /// id (a collective: every rank asks at the same point with the same `pick`).
+    pub fn watched(&self, pick: impl Fn(u32) -> bool) -> Particles {
+        self.dec.gather_picked(&self.local, pick)
+    }
+
     /// This rank's own particles (not its ghosts), as indices into `local`.
     pub fn own(&self) -> Vec<usize> {
         (0..self.local.particles.len())
             .filter(|&i| self.dec.owns(i))
             .collect()
+    }
+}
+
+/// What a probe watching particles during a run sees: those that `pick` names by id, in
+/// ascending id, with every field, whether the whole run is here (`whole`, `part` is
+/// `None`) or spread over ranks (`part`: then on every rank, a collective). The same
+/// bits either way, so a probe's figures do not depend on the rank count, nor, in a
+/// serial run, on the storage order.
+pub fn watched(part: Option<&Part>, whole: &State, pick: impl Fn(u32) -> bool) -> Particles {
+    match part {
+        Some(part) => part.watched(pick),
+        None => super::engine::decomp::picked(&whole.particles, pick),
     }
 }
 
