@@ -104,3 +104,15 @@ fn a_collapse_is_judged_alike_on_1_2_and_4_ranks() {
     );
     checks_agree(&src, &[1, 2, 4]);
 }
+
+/// The pour poured for 0.1 s (200 spheres, the first of them settled on the floor):
+/// every rank draws the same spheres from those near the region, gathered by id, and
+/// keeps those in its box; the ids, the state and the checks are the serial run's.
+#[test]
+fn a_pour_on_1_2_and_4_ranks_is_the_serial_pour() {
+    let src = cut(
+        example_in("dem3d", "pour_small.toml"),
+        &[("duration = 1.0", "duration = 0.1")],
+    );
+    checks_agree(&src, &[1, 2, 4]);
+}

@@ -65,15 +65,15 @@ impl<C: Reduce + Post> Decomposed<C> {
         Some(whole)
     }
 
-    /// The particles of `s` that `pick` names by id, of every rank, on every rank, in
-    /// ascending id: every field but the running ledger, the same bits as the serial
-    /// run's [`picked`]. Every rank must call it at the same point with the same
-    /// `pick`: it is a collective (each rank's own picked particles, about 20 words
-    /// each).
-    pub fn gather_picked(&self, s: &State, pick: impl Fn(u32) -> bool) -> Particles {
+    /// The particles of `s` that `pick` names (by their index in `s`), of every rank,
+    /// on every rank, in ascending id: every field but the running ledger, the same bits
+    /// as the serial run's [`picked`]. Every rank must call it at the same point with
+    /// the same rule: it is a collective (each rank's own picked particles, about 20
+    /// words each).
+    pub fn gather_picked(&self, s: &State, pick: impl Fn(usize) -> bool) -> Particles {
         let p = &s.particles;
         let mut out = Vec::new();
-        for i in (0..p.len()).filter(|&i| self.owns(i) && pick(p.id[i])) {
+        for i in (0..p.len()).filter(|&i| self.owns(i) && pick(i)) {
             words::put_particle(&mut out, p, i, false);
         }
         let all = self.during(Stage::Other, || self.comm.gather(out));
@@ -87,11 +87,11 @@ impl<C: Reduce + Post> Decomposed<C> {
     }
 }
 
-/// The particles of `p` that `pick` names by id, in ascending id, every field but the
-/// running ledger: a view that does not depend on the storage order (nor, through
+/// The particles of `p` that `pick` names (by index), in ascending id, every field but
+/// the running ledger: a view that does not depend on the storage order (nor, through
 /// [`Decomposed::gather_picked`], on the rank count).
-pub fn picked(p: &Particles, pick: impl Fn(u32) -> bool) -> Particles {
-    let mut order: Vec<usize> = (0..p.len()).filter(|&i| pick(p.id[i])).collect();
+pub fn picked(p: &Particles, pick: impl Fn(usize) -> bool) -> Particles {
+    let mut order: Vec<usize> = (0..p.len()).filter(|&i| pick(i)).collect();
     order.sort_unstable_by_key(|&i| p.id[i]);
     let mut out = Particles::default();
     for i in order {

@@ -25,6 +25,7 @@
 pub mod balance;
 mod gather;
 pub mod grid;
+mod insert;
 pub mod local;
 pub mod traffic;
 pub mod words;

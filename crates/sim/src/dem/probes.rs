@@ -327,7 +327,7 @@ impl CheckObserver {
         }
         // Every rank holds the whole start here.
         let ids = probes.ids();
-        let p = grains_dem::decomp::picked(&sim.state.particles, |id| ids.contains(&id));
+        let p = sim.watched(|id| ids.contains(&id));
         probes.observe(&sim.setup, &p, sim.state.time);
         CheckObserver {
             probes,

@@ -142,8 +142,8 @@ pub fn open_on(
         }
     };
     if let Some(link) = link {
-        let part =
-            ranks::Part::new(link, &sim.setup, &sim.state, dims, balance).map_err(refused)?;
+        let part = ranks::Part::new(link, &sim.setup, &sim.state, dims, (balance, 0.0))
+            .map_err(refused)?;
         sim.ranks = Some(Box::new(part));
     }
     let leader = sim.ranks.as_ref().is_none_or(|p| p.rank() == 0);

@@ -3,7 +3,6 @@
 //! what a 3D scenario cannot do on several ranks is [`unsupported`].
 
 use super::scenario::Scenario;
-use crate::ranks::not_on_ranks;
 use grains_dem3d as engine;
 
 // Loaded once per engine on purpose: the same source over each engine's types.
@@ -12,15 +11,13 @@ use grains_dem3d as engine;
 mod part;
 
 pub(crate) use part::spread_methods;
-pub use part::{grid, watched, ParallelSpec, Part};
+pub use part::{grid, largest_radius, nearby, watched, ParallelSpec, Part};
 
 /// Why `s` cannot run on several ranks yet, as one line naming what is not supported;
-/// `None` when it can. The checks run on ranks: their probes read the spheres through
-/// [`watched`]. The engine's own refusal (an expanding neighbour frame) comes from
-/// [`grains_dem3d::decomp::Decomposed::new`].
-pub fn unsupported(s: &Scenario) -> Option<String> {
-    // A pour inserts spheres into the whole state after each step.
-    s.pour
-        .as_ref()
-        .map(|_| not_on_ranks("[pour]", "no [pour] table, or 1 rank"))
+/// `None` when it can: every 3D scenario the engine's decomposition carries (its own
+/// refusal, an expanding neighbour frame, comes from
+/// [`grains_dem3d::decomp::Decomposed::new`]). The checks' probes read the spheres
+/// through [`watched`]; a pour draws its spheres from those [`nearby`] its region.
+pub fn unsupported(_s: &Scenario) -> Option<String> {
+    None
 }

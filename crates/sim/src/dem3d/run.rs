@@ -212,7 +212,9 @@ pub fn open_on(
         opts.progress.announce(&format!("warning: {w}"));
     }
     if let Some(link) = link {
-        let part = Part::new(link, &sim.setup, &sim.state, dims, balance).map_err(refused)?;
+        let later = sim.pour.as_ref().map_or(0.0, |p| p.largest());
+        let at = (&sim.setup, &sim.state);
+        let part = Part::new(link, at.0, at.1, dims, (balance, later)).map_err(refused)?;
         sim.ranks = Some(Box::new(part));
     }
     let leader = sim.ranks.as_ref().is_none_or(|p| p.rank() == 0);
