@@ -9,7 +9,7 @@ mod on_ranks;
 
 use grains_sim::run::{self, RunOptions};
 use grains_sim::Source;
-use on_ranks::{example_in, on_ranks};
+use on_ranks::{example_in, on_ranks, on_ranks_with};
 
 /// `src` with each `(from, to)` replaced, every `from` present.
 fn cut(mut src: Source, edits: &[(&str, &str)]) -> Source {
@@ -68,14 +68,47 @@ fn linear_2d_impacts_are_watched_alike_on_2_ranks() {
 /// over the weight's moment from every sphere at each sample.
 #[test]
 fn a_drum_is_judged_alike_on_1_2_and_4_ranks() {
-    let src = cut(
+    checks_agree(&short_drum(), &[1, 2, 4]);
+}
+
+fn short_drum() -> Source {
+    cut(
         example_in("dem3d", "drum_small.toml"),
         &[
             ("duration = 1.6", "duration = 0.16"),
             ("after = 0.8", "after = 0.08"),
         ],
-    );
-    checks_agree(&src, &[1, 2, 4]);
+    )
+}
+
+/// The short drum stopped after its averaging began, on 4 ranks, and resumed on 2:
+/// every rank ends with the straight serial run's hash and checks (the probes' running
+/// means ride in the checkpoint, restored on every rank).
+#[test]
+fn a_drum_stopped_on_4_ranks_resumes_on_2_with_the_straight_runs_checks() {
+    let src = short_drum();
+    let dir = tempfile::tempdir().unwrap();
+    let straight = run::run(&src, RunOptions::new(dir.path().join("straight"))).unwrap();
+    let want = serde_json::to_string(&straight.checks).unwrap();
+    let out = dir.path().join("four");
+    let stop = straight.summary.steps * 3 / 4;
+    let paused = on_ranks_with(4, |l| {
+        let mut opts = RunOptions::new(&out);
+        opts.stop_at_step = Some(stop);
+        run::run_on(&src, opts, l)
+    });
+    for (r, d) in paused.into_iter().enumerate() {
+        assert_eq!(d.unwrap().status.name(), "paused", "rank {r}");
+    }
+    let done = on_ranks_with(2, |l| run::resume_on(&out, RunOptions::new(&out), l));
+    for (r, d) in done.into_iter().enumerate() {
+        let d = d.unwrap_or_else(|e| panic!("rank {r}: {e}"));
+        assert_eq!(
+            d.summary.state_hash, straight.summary.state_hash,
+            "rank {r}"
+        );
+        assert_eq!(serde_json::to_string(&d.checks).unwrap(), want, "rank {r}");
+    }
 }
 
 /// The silo drained for 0.1 s, its flow through the slab under the orifice averaged
