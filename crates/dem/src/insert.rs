@@ -22,9 +22,21 @@ pub fn insert(setup: &Setup, s: &mut State, new: &Particles) -> Range<u32> {
     if new.is_empty() {
         return ids;
     }
+    let mut named = new.clone();
+    named.id = ids.clone().collect();
+    append(setup, s, &named);
+    s.contacts.rebuild(setup, &mut s.particles);
+    ids
+}
+
+/// Appends `new` with its own ids to `s`, the list extended as if they had been there
+/// at its build with no neighbours: the next rebuild (which must come before the next
+/// force pass) carries every existing contact's history over. [`insert`] in a serial
+/// run; a decomposed run's insertion (`decomp`) appends each rank's share.
+pub fn append(setup: &Setup, s: &mut State, new: &Particles) {
     let n_old = s.particles.len();
     let p = &mut s.particles;
-    p.id.extend(ids.clone());
+    p.id.extend_from_slice(&new.id);
     p.pos.extend_from_slice(&new.pos);
     p.vel.extend_from_slice(&new.vel);
     p.omega.extend_from_slice(&new.omega);
@@ -39,9 +51,6 @@ pub fn insert(setup: &Setup, s: &mut State, new: &Particles) -> Range<u32> {
         // Their running ledgers start empty: what they bring in is the caller's to book.
         p.ledger.resize(p.pos.len(), Default::default());
     }
-
-    // The list is extended as if the new particles had been there at its build with no
-    // neighbours, so that the rebuild carries every existing contact's history over.
     let c = &mut s.contacts;
     let n = s.particles.len();
     if c.row.len() == n_old + 1 {
@@ -55,6 +64,4 @@ pub fn insert(setup: &Setup, s: &mut State, new: &Particles) -> Range<u32> {
     if c.wall_history.len() == n_old * nw && setup.granular.is_some() {
         c.wall_history.resize(n * nw);
     }
-    c.rebuild(setup, &mut s.particles);
-    ids
 }

@@ -193,14 +193,18 @@ fn what_ranks_cannot_run_is_refused_on_every_rank() {
     wrong.text = wrong
         .text
         .replace("[run]", "[parallel]\nranks = [3, 1]\n\n[run]");
+    let mut dispersing = column.clone();
+    dispersing
+        .text
+        .push_str("\n[dispersal]\ncentre = [0.015, 0.0]\n");
     let cases = [
         (
             wrong,
             "parallel.ranks = [3, 1] makes 3 ranks, but the run has 2",
         ),
         (
-            example("head_on.toml"),
-            "is not supported on several ranks yet",
+            dispersing,
+            "[dispersal] is not supported on several ranks yet",
         ),
     ];
     for (k, (src, want)) in cases.iter().enumerate() {

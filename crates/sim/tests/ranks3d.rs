@@ -165,9 +165,8 @@ fn a_3d_checkpoint_on_4_ranks_resumes_on_2_as_the_straight_run() {
     );
 }
 
-/// A grid that is not the rank count, a pour and a check that watches the spheres
-/// during the run are refused on every rank with one line naming the key, nothing
-/// written.
+/// A grid that is not the rank count is refused on every rank with one line naming the
+/// key, nothing written.
 #[test]
 fn what_3d_ranks_cannot_run_is_refused_on_every_rank() {
     let dir = tempfile::tempdir().unwrap();
@@ -179,14 +178,6 @@ fn what_3d_ranks_cannot_run_is_refused_on_every_rank() {
         (
             short_column(Some("[1, 1, 9]")),
             "parallel.ranks = [1, 1, 9] makes 9 ranks",
-        ),
-        (
-            example("pour_small.toml"),
-            "[pour] is not supported on several ranks",
-        ),
-        (
-            example("drum_small.toml"),
-            "check \"dynamic_angle_of_repose\" (it watches the spheres during the run) is not supported",
         ),
     ];
     for (k, (src, want)) in cases.iter().enumerate() {

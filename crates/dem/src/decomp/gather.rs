@@ -2,7 +2,8 @@
 //! particle (frames, plots, the end-of-run figures and checks): each rank sends its own
 //! particles with their wall springs and (partner id, spring) rows; rank 0 puts them in
 //! id order and rebuilds the list over the whole domain, which carries the springs over
-//! as a serial rebuild does.
+//! as a serial rebuild does. A few particles (or all of them) without their springs,
+//! for what watches them during a run, go to every rank the same way ([`picked`]).
 
 use super::traffic::Stage;
 use super::words::{self, Reader};
@@ -63,4 +64,39 @@ impl<C: Reduce + Post> Decomposed<C> {
         whole.contacts.builds = s.contacts.builds;
         Some(whole)
     }
+
+    /// The particles of `s` that `pick` names (by their index in `s`), of every rank,
+    /// on every rank, in ascending id: every field but the running ledger, the same bits
+    /// as the serial run's [`picked`]. Every rank must call it at the same point with
+    /// the same rule: it is a collective (each rank's own picked particles, about 20
+    /// words each).
+    pub fn gather_picked(&self, s: &State, pick: impl Fn(usize) -> bool) -> Particles {
+        let p = &s.particles;
+        let mut out = Vec::new();
+        for i in (0..p.len()).filter(|&i| self.owns(i) && pick(i)) {
+            words::put_particle(&mut out, p, i, false);
+        }
+        let all = self.during(Stage::Other, || self.comm.gather(out));
+        let mut r = Reader::new(&all);
+        let mut got = Particles::default();
+        while !r.done() {
+            words::get_particle(&mut r, &mut got);
+        }
+        got.ledger.clear();
+        picked(&got, |_| true)
+    }
+}
+
+/// The particles of `p` that `pick` names (by index), in ascending id, every field but
+/// the running ledger: a view that does not depend on the storage order (nor, through
+/// [`Decomposed::gather_picked`], on the rank count).
+pub fn picked(p: &Particles, pick: impl Fn(usize) -> bool) -> Particles {
+    let mut order: Vec<usize> = (0..p.len()).filter(|&i| pick(i)).collect();
+    order.sort_unstable_by_key(|&i| p.id[i]);
+    let mut out = Particles::default();
+    for i in order {
+        words::copy_particle(p, i, &mut out);
+    }
+    out.ledger.clear();
+    out
 }

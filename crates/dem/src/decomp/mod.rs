@@ -25,10 +25,12 @@
 pub mod balance;
 mod gather;
 pub mod grid;
+mod insert;
 pub mod local;
 pub mod traffic;
 pub mod words;
 
+pub use gather::picked;
 pub use grid::{GridError, RankGrid};
 
 use crate::comm::{Exchange, Post, Reduce};

@@ -38,7 +38,7 @@ impl RingPart {
     ) -> Result<RingPart, String> {
         let mut setup = ring.setup.clone();
         setup.expanding_from = None;
-        let part = Part::new(link, &setup, &ring.state, dims, balance)?;
+        let part = Part::new(link, &setup, &ring.state, dims, (balance, 0.0))?;
         let mut coupling = ring.coupling.clone();
         if part.ranks() > 1 {
             // The part is in a new order, its list just built; one rank keeps the

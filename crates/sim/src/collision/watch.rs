@@ -5,7 +5,7 @@ use super::super::{Measure, HERTZ_TIME};
 use super::engine::diagnostics::index_of;
 use super::engine::granular::Normal;
 use super::engine::math::{AngVector, TangentOps, Vector};
-use super::engine::{PairTable, Particles, Setup, State};
+use super::engine::{PairTable, Particles, Setup};
 use grains_core::checks::Check;
 use grains_core::input::InputError;
 use serde::{Deserialize, Serialize};
@@ -50,8 +50,12 @@ pub struct Watch(pub u32, pub Partner, Impact);
 
 /// The geometry of a collision now: (gap, unit normal towards the partner, relative
 /// velocity).
-fn geometry(setup: &Setup, s: &State, i: usize, partner: Partner) -> Option<(f64, Vector, Vector)> {
-    let p = &s.particles;
+fn geometry(
+    setup: &Setup,
+    p: &Particles,
+    i: usize,
+    partner: Partner,
+) -> Option<(f64, Vector, Vector)> {
     match partner {
         Partner::Particle(id) => {
             let j = index_of(p, id)?;
@@ -72,10 +76,10 @@ fn geometry(setup: &Setup, s: &State, i: usize, partner: Partner) -> Option<(f64
 
 impl Watch {
     /// The watch of a check's `particle` and its partner (validated): another particle
-    /// or the wall named `wall`.
+    /// or the wall named `wall`, from the particles `p` at `time`.
     pub fn of(
         setup: &Setup,
-        s: &State,
+        (p, time): (&Particles, f64),
         particle: u32,
         partner: Option<u32>,
         wall: Option<&str>,
@@ -89,21 +93,27 @@ impl Watch {
                     .position(|x| Some(x.name.as_str()) == wall)?,
             ),
         };
-        Watch::new(setup, s, particle, to)
+        Watch::new(setup, (p, time), particle, to)
     }
 
-    /// The watch of particle `id`'s collision with `partner`, from the state `s`.
-    pub fn new(setup: &Setup, s: &State, id: u32, partner: Partner) -> Option<Self> {
-        let (gap, normal, v) = geometry(setup, s, index_of(&s.particles, id)?, partner)?;
+    /// The watch of particle `id`'s collision with `partner`, from the particles `p` at
+    /// `time`.
+    pub fn new(
+        setup: &Setup,
+        (p, time): (&Particles, f64),
+        id: u32,
+        partner: Partner,
+    ) -> Option<Self> {
+        let (gap, normal, v) = geometry(setup, p, index_of(p, id)?, partner)?;
         let impact = Impact {
             phase: if gap < 0.0 { Phase::In } else { Phase::Before },
             gap,
-            time: s.time,
+            time,
             normal,
             before: v,
             after: v,
             omega_after: AngVector::default(),
-            t_in: s.time,
+            t_in: time,
             t_out: f64::NAN,
             overlap: 0.0,
             force: 0.0,
@@ -111,20 +121,31 @@ impl Watch {
         Some(Watch(id, partner, impact))
     }
 
-    /// Looks at the state after a step.
-    pub fn step(&mut self, setup: &Setup, s: &State) {
+    /// The particles it watches, by id (none once the collision is over).
+    pub fn ids(&self) -> Vec<u32> {
+        let Watch(id, partner, m) = self;
+        match (m.phase, partner) {
+            (Phase::After, _) => Vec::new(),
+            (_, Partner::Particle(j)) => vec![*id, *j],
+            (_, Partner::Wall(_)) => vec![*id],
+        }
+    }
+
+    /// Looks at the particles `p` (those of [`Watch::ids`] at least) after the step
+    /// that ended at `time`.
+    pub fn step(&mut self, setup: &Setup, p: &Particles, time: f64) {
         let Watch(id, partner, m) = self;
         if m.phase == Phase::After {
             return;
         }
-        let Some(i) = index_of(&s.particles, *id) else {
+        let Some(i) = index_of(p, *id) else {
             return;
         };
-        let Some((gap, normal, v)) = geometry(setup, s, i, *partner) else {
+        let Some((gap, normal, v)) = geometry(setup, p, i, *partner) else {
             return;
         };
         // Where the gap crossed zero within the step just taken.
-        let crossing = m.time + (s.time - m.time) * m.gap / (m.gap - gap);
+        let crossing = m.time + (time - m.time) * m.gap / (m.gap - gap);
         match m.phase {
             Phase::Before if gap < 0.0 => {
                 (m.phase, m.t_in, m.normal) = (Phase::In, crossing, normal);
@@ -132,15 +153,15 @@ impl Watch {
             Phase::Before => m.before = v,
             Phase::In if gap >= 0.0 => {
                 (m.phase, m.t_out, m.after) = (Phase::After, crossing, v);
-                m.omega_after = s.particles.omega[i];
+                m.omega_after = p.omega[i];
             }
             _ => {}
         }
         if m.phase == Phase::In {
             m.overlap = m.overlap.max(-gap);
-            m.force = m.force.max(s.particles.force[i].length());
+            m.force = m.force.max(p.force[i].length());
         }
-        (m.gap, m.time) = (gap, s.time);
+        (m.gap, m.time) = (gap, time);
     }
 
     /// The check `name` of `measure` (validated by [`validate`]) within relative `tol`,

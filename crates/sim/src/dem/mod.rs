@@ -20,7 +20,7 @@ use crate::forces::{Hook, Outside};
 use crate::output::Capabilities;
 use grains_core::input::InputError;
 use grains_dem::diagnostics::{self, Diagnostics};
-use grains_dem::{step, step_with, Reduce, Setup, State};
+use grains_dem::{step, step_with, Particles, Reduce, Setup, State};
 use std::borrow::Cow;
 
 /// What a DEM run writes, and its defaults.
@@ -55,6 +55,13 @@ pub struct Dem {
 }
 
 impl Dem {
+    /// The particles that `pick` names by id, in ascending id, whether the run is here
+    /// or spread over ranks (then on every rank: every rank must ask at the same point
+    /// with the same `pick`); what the probes read ([`ranks::watched`]).
+    pub fn watched(&self, pick: impl Fn(u32) -> bool) -> Particles {
+        ranks::watched(self.ranks.as_deref(), &self.state, pick)
+    }
+
     /// Starts a run: evaluates the initial forces, and refuses a start whose disks
     /// already overlap beyond the runaway limit (coincident or deeply overlapping
     /// disks blow up within a few steps).

@@ -1,7 +1,9 @@
 //! Recorders that watch a few particles during a run and turn what they saw into the
 //! scenario's checks: binary collisions (restitution, contact time) and wall impacts
 //! (rigid-body impulse theory) under the linear law; under the granular law the
-//! collision watch both dimensions share ([`crate::collision`]). They only read the state.
+//! collision watch both dimensions share ([`crate::collision`]). They only read the
+//! particles they watch, through [`Dem::watched`] (in ascending id, on every rank of a
+//! run spread over ranks), so they see the same bits on any rank count.
 
 use super::scenario::CheckSpec;
 use super::Dem;
@@ -9,7 +11,7 @@ use crate::collision::dim2::Watch;
 use crate::driver::{Observer, Report, Status};
 use glam::DVec2;
 use grains_core::checks::Check;
-use grains_dem::{PairTable, Setup, State};
+use grains_dem::{PairTable, Particles, Setup, State};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 enum Phase {
@@ -49,7 +51,6 @@ struct Impact {
 pub struct Probes {
     collisions: Vec<Collision>,
     impacts: Vec<Impact>,
-    builds_seen: u64,
     /// The collision watch of each check (`None` for other kinds; a checkpoint's TOML has
     /// no null, so a list of at most one).
     #[serde(default)]
@@ -107,7 +108,6 @@ impl Probes {
                 CheckSpec::WallForceOverWeight { .. } | CheckSpec::Collision { .. } => {}
             }
         }
-        p.builds_seen = u64::MAX;
         p
     }
 
@@ -116,27 +116,39 @@ impl Probes {
         self.collisions.is_empty() && self.impacts.is_empty() && self.watches.is_empty()
     }
 
-    /// Looks at the state after a step.
-    pub fn observe(&mut self, setup: &Setup, s: &State) {
-        if self.is_empty() {
-            return;
-        }
-        for w in self.watches.iter_mut().flatten() {
-            w.step(setup, s);
-        }
-        let p = &s.particles;
-        if self.builds_seen != s.contacts.builds {
-            // Particles were re-sorted: find the watched ones again by id.
-            let find = |id: u32| p.id.iter().position(|&k| k == id).unwrap_or(0);
-            for c in &mut self.collisions {
-                c.at = [find(c.ids[0]), find(c.ids[1])];
-            }
-            for m in &mut self.impacts {
-                m.at = find(m.id);
-            }
-            self.builds_seen = s.contacts.builds;
-        }
+    /// The particles still watched, by id (a collision or impact over needs none).
+    pub fn ids(&self) -> Vec<u32> {
+        let pairs = self.collisions.iter().filter(|c| c.phase != Phase::After);
+        let impacts = self.impacts.iter().filter(|m| m.phase != Phase::After);
+        let watches = self.watches.iter().flatten().flat_map(Watch::ids);
+        let mut ids: Vec<u32> = pairs.flat_map(|c| c.ids).collect();
+        ids.extend(impacts.map(|m| m.id).chain(watches));
+        ids
+    }
+
+    /// Finds the watched particles in `p` (a view in ascending id: [`Dem::watched`]).
+    fn locate(&mut self, p: &Particles) {
+        let find = |id: u32| p.id.binary_search(&id).unwrap_or(0);
         for c in &mut self.collisions {
+            c.at = [find(c.ids[0]), find(c.ids[1])];
+        }
+        for m in &mut self.impacts {
+            m.at = find(m.id);
+        }
+    }
+
+    /// Looks at the particles `p` ([`Probes::ids`] at least, in ascending id) after the
+    /// step that ended at `time`.
+    pub fn observe(&mut self, setup: &Setup, p: &Particles, time: f64) {
+        for w in self.watches.iter_mut().flatten() {
+            w.step(setup, p, time);
+        }
+        self.locate(p);
+        for c in self
+            .collisions
+            .iter_mut()
+            .filter(|c| c.phase != Phase::After)
+        {
             let [a, b] = c.at;
             let d = setup.domain.min_image(p.pos[b] - p.pos[a]);
             let dist = d.length();
@@ -144,20 +156,20 @@ impl Probes {
             let vn = (p.vel[a] - p.vel[b]).dot(d / dist);
             match c.phase {
                 Phase::Before if overlap > 0.0 => {
-                    c.start = zero_crossing(c.prev.0, c.prev.1, s.time, overlap);
+                    c.start = zero_crossing(c.prev.0, c.prev.1, time, overlap);
                     c.phase = Phase::During;
                 }
                 Phase::Before => c.vn_before = vn,
                 Phase::During if overlap <= 0.0 => {
-                    c.end = zero_crossing(c.prev.0, c.prev.1, s.time, overlap);
+                    c.end = zero_crossing(c.prev.0, c.prev.1, time, overlap);
                     c.vn_after = vn;
                     c.phase = Phase::After;
                 }
                 _ => {}
             }
-            c.prev = (s.time, overlap);
+            c.prev = (time, overlap);
         }
-        for m in &mut self.impacts {
+        for m in self.impacts.iter_mut().filter(|m| m.phase != Phase::After) {
             let i = m.at;
             let Some(touch) = setup.walls[m.wall].shape.nearest(p.pos[i]) else {
                 continue;
@@ -178,15 +190,17 @@ impl Probes {
         }
     }
 
-    /// Turns the recordings into checks, in the order the scenario lists them.
+    /// Turns the recordings into checks, in the order the scenario lists them: `p` is
+    /// every particle in ascending id ([`Dem::watched`]), `s` the run's state (its
+    /// wall loads).
     pub fn checks(
-        &self,
+        &mut self,
         setup: &Setup,
-        s: &State,
+        (p, s): (&Particles, &State),
         specs: &[CheckSpec],
         restitution: &PairTable<Option<f64>>,
     ) -> Vec<Check> {
-        let p = &s.particles;
+        self.locate(p);
         let mut out = Vec::new();
         for (k, spec) in specs.iter().enumerate() {
             let (name, tol) = (spec.name(), spec.tolerance());
@@ -302,8 +316,8 @@ impl CheckObserver {
                         wall,
                         ..
                     } => {
-                        let (setup, state) = (&sim.setup, &sim.state);
-                        Watch::of(setup, state, *particle, *partner, wall.as_deref())
+                        let at = (&sim.state.particles, sim.state.time);
+                        Watch::of(&sim.setup, at, *particle, *partner, wall.as_deref())
                             .into_iter()
                             .collect()
                     }
@@ -311,7 +325,10 @@ impl CheckObserver {
                 })
                 .collect();
         }
-        probes.observe(&sim.setup, &sim.state);
+        // Every rank holds the whole start here.
+        let ids = probes.ids();
+        let p = sim.watched(|id| ids.contains(&id));
+        probes.observe(&sim.setup, &p, sim.state.time);
         CheckObserver {
             probes,
             specs: specs.to_vec(),
@@ -322,16 +339,24 @@ impl CheckObserver {
 
 impl Observer<Dem> for CheckObserver {
     fn on_step(&mut self, sim: &Dem) {
-        self.probes.observe(&sim.setup, &sim.state);
+        let ids = self.probes.ids();
+        if ids.is_empty() {
+            return;
+        }
+        let p = sim.watched(|id| ids.contains(&id));
+        self.probes.observe(&sim.setup, &p, sim.state.time);
     }
 
     fn on_end(&mut self, sim: &Dem, _status: &Status, report: &mut Report) -> anyhow::Result<()> {
-        report.checks.extend(self.probes.checks(
-            &sim.setup,
-            &sim.state,
-            &self.specs,
-            &self.restitution,
-        ));
+        if self.specs.is_empty() {
+            return Ok(());
+        }
+        let p = sim.watched(|_| true);
+        let at = (&p, &sim.state);
+        let checks = self
+            .probes
+            .checks(&sim.setup, at, &self.specs, &self.restitution);
+        report.checks.extend(checks);
         Ok(())
     }
 

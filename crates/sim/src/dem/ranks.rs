@@ -4,7 +4,7 @@
 //! The transport (MPI) comes from outside (`grains-mpi`), so this crate needs nothing
 //! but cargo; its tests run on in-process ranks.
 
-use super::scenario::{CheckSpec, Scenario};
+use super::scenario::Scenario;
 use crate::ranks::not_on_ranks;
 use grains_dem as engine;
 
@@ -15,26 +15,14 @@ mod part;
 
 pub use crate::ranks::{Link, Transport};
 pub(crate) use part::spread_methods;
-pub use part::{comm_of, grid, ParallelSpec, Part};
+pub use part::{comm_of, grid, largest_radius, nearby, watched, ParallelSpec, Part};
 
 /// Why `s` cannot run on several ranks yet, as one line naming what is not supported;
-/// `None` when it can. The engine's own refusal (an expanding neighbour frame) comes
-/// from [`grains_dem::decomp::Decomposed::new`].
+/// `None` when it can. The checks run on ranks: their probes read the particles through
+/// [`watched`]. The engine's own refusal (an expanding neighbour frame) comes from
+/// [`grains_dem::decomp::Decomposed::new`].
 pub fn unsupported(s: &Scenario) -> Option<String> {
-    if s.dispersal.is_some() {
-        return Some(not_on_ranks(
-            "[dispersal]",
-            "no [dispersal] table, or 1 rank",
-        ));
-    }
-    for c in &s.checks {
-        if !matches!(c, CheckSpec::WallForceOverWeight { .. }) {
-            // Collision and impact probes watch particles at every step.
-            return Some(not_on_ranks(
-                &format!("check \"{}\" (a collision or impact probe)", c.name()),
-                "kind = \"wall_force_over_weight\" checks, or 1 rank",
-            ));
-        }
-    }
-    None
+    s.dispersal
+        .as_ref()
+        .map(|_| not_on_ranks("[dispersal]", "no [dispersal] table, or 1 rank"))
 }

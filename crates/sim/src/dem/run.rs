@@ -47,6 +47,9 @@ pub struct DemRun {
 }
 
 struct Watchers {
+    /// The checks' probes, on every rank (they read particles through
+    /// [`Dem::watched`], a collective on several ranks).
+    checks: CheckObserver,
     history: HistoryRecorder,
     rest: Option<RestDetector>,
     /// The observers that write or read every particle: on rank 0 (or the only rank).
@@ -58,14 +61,15 @@ struct Watchers {
 struct Writers {
     frames: FrameRecorder,
     snaps: Snapshots,
-    checks: CheckObserver,
     ends: Figures,
     dispersal: Option<DispersalObserver>,
 }
 
 impl Watchers {
+    /// The observers, the probes first, so that a failure of rank 0's writers cannot
+    /// leave the other ranks waiting in their gathers.
     fn list(&mut self) -> Vec<&mut dyn Observer<Dem>> {
-        let mut o: Vec<&mut dyn Observer<Dem>> = vec![&mut self.history];
+        let mut o: Vec<&mut dyn Observer<Dem>> = vec![&mut self.checks, &mut self.history];
         let Some(w) = self.writers.as_mut() else {
             o.extend(self.pieces.as_mut().map(|f| f as &mut dyn Observer<Dem>));
             o.extend(self.rest.as_mut().map(|r| r as &mut dyn Observer<Dem>));
@@ -76,7 +80,6 @@ impl Watchers {
         if let Some(r) = self.rest.as_mut() {
             o.push(r);
         }
-        o.push(&mut w.checks);
         o.push(&mut w.ends);
         if let Some(d) = w.dispersal.as_mut() {
             o.push(d);
@@ -139,8 +142,8 @@ pub fn open_on(
         }
     };
     if let Some(link) = link {
-        let part =
-            ranks::Part::new(link, &sim.setup, &sim.state, dims, balance).map_err(refused)?;
+        let part = ranks::Part::new(link, &sim.setup, &sim.state, dims, (balance, 0.0))
+            .map_err(refused)?;
         sim.ranks = Some(Box::new(part));
     }
     let leader = sim.ranks.as_ref().is_none_or(|p| p.rank() == 0);
@@ -180,15 +183,15 @@ pub fn open_on(
         &plan,
         resume.as_ref().map(|r| &r.progress.counters),
     )?;
+    // The law was resolved (and refused where bad) when the run was assembled, on every
+    // rank alike: it cannot fail here on one rank alone.
+    let restitution = crate::law::dim2::resolve(&s.contact, &s.materials).map_err(input)?;
+    let checks = CheckObserver::new(&sim, &s.checks, restitution.restitution);
     let (frames, pieces) = match leader {
         true => (Some(frames), None),
         false => (None, Some(frames)),
     };
     let writers = if let Some(frames) = frames {
-        // The law was resolved (and refused where bad) when the run was assembled, on
-        // every rank alike: it cannot fail here, on rank 0 alone.
-        let restitution = crate::law::dim2::resolve(&s.contact, &s.materials).map_err(input)?;
-        let checks = CheckObserver::new(&sim, &s.checks, restitution.restitution);
         // On a resumed run the analysis covers the new segment; `grains analyze RUN_DIR`
         // covers every frame.
         let dispersal = s.dispersal.as_ref().map(|d| {
@@ -203,7 +206,6 @@ pub fn open_on(
             snaps: Snapshots {
                 dir: out.join("plots"),
             },
-            checks,
             ends: Figures {
                 scenario: s.clone(),
             },
@@ -219,6 +221,7 @@ pub fn open_on(
         None
     };
     let mut watchers = Watchers {
+        checks,
         history,
         rest,
         writers,

@@ -23,7 +23,7 @@ use super::scenario::{Scenario, WallSpec};
 use super::Dem3;
 use glam::DVec3;
 use grains_core::input::InputError;
-use grains_dem3d::{Setup, WallShape};
+use grains_dem3d::{Particles, Setup, WallShape};
 use serde::{Deserialize, Serialize};
 
 /// The fraction of the spheres within the column's height and the deposit's radius.
@@ -86,16 +86,21 @@ impl RunoutWatch {
         }
     }
 
-    /// Takes one sample: the column's height while the tube holds it.
-    pub fn sample(&mut self, sim: &Dem3) {
-        if sim.state.time > self.release {
+    /// Whether it samples at `time`: while the tube holds the column.
+    pub fn wants(&self, time: f64) -> bool {
+        time <= self.release
+    }
+
+    /// Takes one sample of every sphere, `p`: the column's height while the tube holds
+    /// it.
+    pub fn sample(&mut self, sim: &Dem3, p: &Particles) {
+        if !self.wants(sim.state.time) {
             return;
         }
         let Some((c, _)) = axis(&sim.setup, self.wall) else {
             return;
         };
         let up = -sim.setup.gravity.normalize_or_zero();
-        let p = &sim.state.particles;
         let h: Vec<f64> = (0..p.len()).map(|i| (p.pos[i] - c).dot(up)).collect();
         let base = (0..p.len())
             .map(|i| h[i] - p.radius[i])
@@ -103,12 +108,11 @@ impl RunoutWatch {
         self.h0 = holding((0..p.len()).map(|i| h[i] + p.radius[i]).collect()) - base;
     }
 
-    /// The deposit now about the tube's axis ([`Deposit`]).
-    pub fn deposit(&self, sim: &Dem3) -> Deposit {
+    /// The deposit of the spheres `p` about the tube's axis ([`Deposit`]).
+    pub fn deposit(&self, sim: &Dem3, p: &Particles) -> Deposit {
         let Some((c, u)) = axis(&sim.setup, self.wall) else {
             return Deposit::NAN;
         };
-        let p = &sim.state.particles;
         let s: Vec<f64> = (0..p.len())
             .map(|i| {
                 let d = p.pos[i] - c;

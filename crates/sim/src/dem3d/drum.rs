@@ -10,7 +10,7 @@
 
 use super::Dem3;
 use glam::DVec3;
-use grains_dem3d::WallShape;
+use grains_dem3d::{Particles, WallShape};
 use serde::{Deserialize, Serialize};
 
 /// Running means of a drum's figures from time `after` on.
@@ -37,19 +37,23 @@ impl DrumWatch {
         }
     }
 
-    /// Takes one sample.
-    pub fn sample(&mut self, sim: &Dem3) {
-        if sim.state.time < self.after {
+    /// Whether it samples at `time`.
+    pub fn wants(&self, time: f64) -> bool {
+        time >= self.after
+    }
+
+    /// Takes one sample of every sphere, `p` (in ascending id: the sums' order).
+    pub fn sample(&mut self, sim: &Dem3, p: &Particles) {
+        if !self.wants(sim.state.time) {
             return;
         }
         let Some((c, u, radius)) = cylinder(sim, self.wall) else {
             return;
         };
-        if let Some(a) = surface_angle(sim, c, u, radius) {
+        if let Some(a) = surface_angle(sim, p, c, u, radius) {
             self.angle.0 += a;
             self.angle.1 += 1;
         }
-        let p = &sim.state.particles;
         let g = sim.setup.gravity;
         self.moment += (0..p.len())
             .map(|i| (p.pos[i] - c).cross(p.mass(i) * g).dot(u))
@@ -82,10 +86,9 @@ fn cylinder(sim: &Dem3, w: usize) -> Option<(DVec3, DVec3, f64)> {
     }
 }
 
-/// The free surface's angle to the horizontal (degrees) in the drum about `c` along
-/// `u`, or None with fewer than three columns of grains.
-fn surface_angle(sim: &Dem3, c: DVec3, u: DVec3, radius: f64) -> Option<f64> {
-    let p = &sim.state.particles;
+/// The free surface's angle to the horizontal (degrees) of the spheres `p` in the drum
+/// about `c` along `u`, or None with fewer than three columns of grains.
+fn surface_angle(sim: &Dem3, p: &Particles, c: DVec3, u: DVec3, radius: f64) -> Option<f64> {
     let up = -sim.setup.gravity.normalize_or_zero();
     let across = u.cross(up).normalize_or_zero();
     let n = p.len();

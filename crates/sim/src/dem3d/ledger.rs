@@ -97,23 +97,15 @@ pub fn open(sim: &mut Dem3, d: &Diagnostics) {
     }
 }
 
-/// The kinetic + potential energy of the `n` spheres a pour just brought in (the
-/// highest ids: a pour numbers them past the existing ones).
-pub fn brought_in(sim: &Dem3, n: usize) -> f64 {
-    let p = &sim.state.particles;
-    if n == 0 || n > p.len() {
-        return 0.0;
-    }
-    let mut ids = p.id.clone();
-    let k = ids.len() - n;
-    let from = *ids.select_nth_unstable(k).1;
-    (0..p.len())
-        .filter(|&i| p.id[i] >= from)
+/// The kinetic + potential energy of the spheres `new` a pour just brought in, added in
+/// the order of their ids (the same on any rank count).
+pub fn brought_in(setup: &grains_dem3d::Setup, new: &grains_dem3d::Particles) -> f64 {
+    (0..new.len())
         .map(|i| {
-            let m = p.mass(i);
-            0.5 * m * p.vel[i].length_squared()
-                + 0.5 * p.omega[i].length_squared() / p.inv_inertia[i]
-                - m * sim.setup.gravity.dot(p.pos[i])
+            let m = new.mass(i);
+            0.5 * m * new.vel[i].length_squared()
+                + 0.5 * new.omega[i].length_squared() / new.inv_inertia[i]
+                - m * setup.gravity.dot(new.pos[i])
         })
         .sum()
 }

@@ -80,6 +80,52 @@ impl Dem3 {
         Ok(Self::resumed(setup, state, dt))
     }
 
+    /// The spheres that `pick` names by id, in ascending id, whether the run is here or
+    /// spread over ranks (then on every rank: every rank must ask at the same point with
+    /// the same `pick`); what the probes read ([`ranks::watched`]).
+    pub fn watched(&self, pick: impl Fn(u32) -> bool) -> Particles {
+        ranks::watched(self.ranks.as_deref(), &self.state, pick)
+    }
+
+    /// The run's figures now, over every rank (on every rank: a collective), the serial
+    /// ones bit for bit.
+    pub fn measured(&self) -> Diagnostics {
+        match &self.ranks {
+            Some(part) => part.sample(&self.setup),
+            None => diagnostics::measure(&self.setup, &self.state),
+        }
+    }
+
+    /// Pours what is due after a step: the spheres near the pour's region, here or over
+    /// every rank (in ascending id), decide where the new ones go, the same on every
+    /// rank; a rank spread over ranks keeps those in its box.
+    fn pour(&mut self) {
+        let Some(pour) = self.pour.as_mut() else {
+            return;
+        };
+        let (time, step) = (self.state.time, self.state.step);
+        if !pour.due(time) {
+            return;
+        }
+        let (setup, part) = (&self.setup, self.ranks.as_deref());
+        let r_max = ranks::largest_radius(part, &self.state);
+        let near = ranks::nearby(part, &self.state, |x, r| pour.near(setup, (x, r), r_max));
+        let new = pour.draw(setup, &near, (step, time));
+        let ledger = match part {
+            Some(part) => part.local.ledger.is_some(),
+            None => self.state.ledger.is_some(),
+        };
+        if ledger {
+            self.books.poured += ledger::brought_in(setup, &new);
+        }
+        match self.ranks.as_mut() {
+            Some(part) => part.insert(&self.setup, &new, &mut self.state),
+            None => {
+                grains_dem3d::insert::insert(&self.setup, &mut self.state, &new);
+            }
+        }
+    }
+
     /// Continues from a checkpointed state.
     pub fn resumed(mut setup: Setup, state: State, dt: f64) -> Self {
         // The walls where the state has them (its poses: the straight run's bits).
@@ -115,6 +161,7 @@ impl Simulation for Dem3 {
             // Every rank moves every wall the same way: walls are on every rank.
             grains_dem3d::walls::advance_walls(&mut self.setup, &mut part.local, self.dt);
             part.advance(&self.setup, self.dt, &mut self.state);
+            self.pour();
             return Ok(());
         }
         // The walls first: the step's forces are those at its end, t + dt.
@@ -128,26 +175,16 @@ impl Simulation for Dem3 {
             };
             step_with(&self.setup, &mut self.state, self.dt, &mut hook);
         }
-        if let Some(p) = &mut self.pour {
-            let n = p.pour(&self.setup, &mut self.state);
-            if n > 0 && self.state.ledger.is_some() {
-                self.books.poured += ledger::brought_in(self, n);
-            }
-        }
+        self.pour();
         Ok(())
     }
 
     fn sample(&mut self) -> Diagnostics {
-        match &self.ranks {
-            Some(part) => {
-                self.ledger = part.ledger_figures();
-                part.sample(&self.setup)
-            }
-            None => {
-                self.ledger = grains_dem3d::ledger_sums::figures(&self.state);
-                diagnostics::measure(&self.setup, &self.state)
-            }
-        }
+        self.ledger = match &self.ranks {
+            Some(part) => part.ledger_figures(),
+            None => grains_dem3d::ledger_sums::figures(&self.state),
+        };
+        self.measured()
     }
 
     fn unstable(&self, d: &Diagnostics) -> Option<String> {

@@ -7,7 +7,9 @@
 //! later step (the pour falls behind and catches up when there is room). The k-th
 //! poured sphere's radius and its places in step s come from random streams of (seed,
 //! k) and (seed, s, k): what the pour does depends on the state alone, so a run resumed
-//! from a checkpoint pours as the straight run does, bit for bit.
+//! from a checkpoint pours as the straight run does, bit for bit. It reads only the
+//! spheres near its region ([`Pour::near`]) and the largest radius, which a run spread
+//! over ranks gathers by id on every rank, so every rank draws the same spheres.
 
 use super::assemble::{finite3, fits, material_index, region_box};
 use super::scenario::{RegionSpec, Scenario};
@@ -236,26 +238,40 @@ impl Pour {
         }
     }
 
-    /// Inserts what is due after a step; returns how many spheres went in.
-    pub fn pour(&mut self, setup: &Setup, state: &mut State) -> usize {
-        if self.done() || !self.behind(state.time) {
-            return 0;
-        }
-        let d = &setup.domain;
+    /// Its largest radius.
+    pub fn largest(&self) -> f64 {
+        self.radii.1
+    }
+
+    /// Whether spheres are due after the step that ended at `time`.
+    pub fn due(&self, time: f64) -> bool {
+        !self.done() && self.behind(time)
+    }
+
+    /// Whether a sphere at `at` of radius `r` may stand in a new sphere's way, with
+    /// `r_max` the largest radius of the run's spheres.
+    pub fn near(&self, setup: &Setup, (at, r): (DVec3, f64), r_max: f64) -> bool {
         let centre = 0.5 * (self.lo + self.hi);
-        let reach = 0.5 * (self.hi - self.lo) + self.radii.1 + state.particles.max_radius();
-        let p = &state.particles;
-        let mut near: Vec<(DVec3, f64)> = (0..p.len())
-            .filter(|&i| {
-                (d.min_image(p.pos[i] - centre).abs() - p.radius[i])
-                    .cmple(reach)
-                    .all()
-            })
-            .map(|i| (p.pos[i], p.radius[i]))
+        let reach = 0.5 * (self.hi - self.lo) + self.radii.1 + r_max;
+        (setup.domain.min_image(at - centre).abs() - r)
+            .cmple(reach)
+            .all()
+    }
+
+    /// The spheres due after the step `step` that ended at `time` ([`Pour::due`]), each
+    /// placed clear of the spheres `near` ([`Pour::near`]), of those placed before it and
+    /// of every wall, in the order their ids follow; counted as poured.
+    pub fn draw(&mut self, setup: &Setup, near: &Particles, (step, time): (u64, f64)) -> Particles {
+        let d = &setup.domain;
+        let mut near: Vec<(DVec3, f64)> = near
+            .pos
+            .iter()
+            .copied()
+            .zip(near.radius.iter().copied())
             .collect();
         let mut batch = Particles::default();
-        let place = self.seed.wrapping_add(1).wrapping_add(state.step);
-        while !self.done() && self.behind(state.time) {
+        let place = self.seed.wrapping_add(1).wrapping_add(step);
+        while self.due(time) {
             let r = self.radius(self.inserted);
             let mut rng = rng::stream(place, self.inserted);
             let clear = |at: DVec3| {
@@ -290,7 +306,6 @@ impl Pour {
             self.inserted += 1;
             self.inserted_mass += batch.mass(batch.len() - 1);
         }
-        grains_dem3d::insert::insert(setup, state, &batch);
-        batch.len()
+        batch
     }
 }

@@ -1,5 +1,11 @@
 //! The 3D scenario's checks: collisions (the watch both dimensions share,
 //! [`crate::collision`]), the load on a wall, drums, silos, pours and collapses.
+//!
+//! Every probe reads the spheres through [`Dem3::watched`], in ascending id: the few
+//! a collision watches after every step, every sphere at the samples a drum, a silo
+//! or a column takes and at the end. So a probe's figures are the same bits on any
+//! rank count, and on several ranks every rank keeps the probes (they see the same
+//! spheres) and reaches the same checks.
 
 use super::collapse::{lube, Deposit, RunoutWatch};
 use super::deposit;
@@ -13,7 +19,7 @@ use glam::DVec3;
 use grains_core::checks::Check;
 use grains_dem3d::diagnostics::index_of;
 use grains_dem3d::diagnostics::Diagnostics;
-use grains_dem3d::PairTable;
+use grains_dem3d::{PairTable, Particles};
 use serde::{Deserialize, Serialize};
 
 /// What a checkpoint keeps of the probes, one list per check (empty for none).
@@ -48,7 +54,10 @@ impl Probes {
                     partner,
                     wall,
                     ..
-                } => Watch::of(&sim.setup, &sim.state, *particle, *partner, wall.as_deref()),
+                } => {
+                    let at = (&sim.state.particles, sim.state.time);
+                    Watch::of(&sim.setup, at, *particle, *partner, wall.as_deref())
+                }
                 _ => None,
             })
             .collect();
@@ -94,9 +103,9 @@ impl Probes {
     }
 }
 
-/// The force of wall `wall` along gravity over the particles' weight.
-fn load_over_weight(sim: &Dem3, wall: &str) -> f64 {
-    let (walls, p) = (&sim.setup.walls, &sim.state.particles);
+/// The force of wall `wall` along gravity over the weight of the spheres `p`.
+fn load_over_weight(sim: &Dem3, p: &Particles, wall: &str) -> f64 {
+    let walls = &sim.setup.walls;
     let g = sim.setup.gravity;
     let mass: f64 = (0..p.len()).map(|i| p.mass(i)).sum();
     walls
@@ -110,20 +119,33 @@ fn load_over_weight(sim: &Dem3, wall: &str) -> f64 {
 
 impl Observer<Dem3> for Probes {
     fn on_step(&mut self, sim: &Dem3) {
+        let ids: Vec<u32> = self.impacts.iter().flatten().flat_map(Watch::ids).collect();
+        if ids.is_empty() {
+            return;
+        }
+        let p = sim.watched(|id| ids.contains(&id));
         for w in self.impacts.iter_mut().flatten() {
-            w.step(&sim.setup, &sim.state);
+            w.step(&sim.setup, &p, sim.state.time);
         }
     }
 
     fn on_sample(&mut self, sim: &Dem3, _d: &Diagnostics) -> anyhow::Result<Flow> {
+        let t = sim.state.time;
+        let wanted = self.drums.iter().flatten().any(|d| d.wants(t))
+            || self.silos.iter().flatten().any(|d| d.wants(t))
+            || self.columns.iter().flatten().any(|c| c.wants(t));
+        if !wanted {
+            return Ok(Flow::Continue);
+        }
+        let p = sim.watched(|_| true);
         for d in self.drums.iter_mut().flatten() {
-            d.sample(sim);
+            d.sample(sim, &p);
         }
         for d in self.silos.iter_mut().flatten() {
-            d.sample(sim);
+            d.sample(sim, &p);
         }
         for c in self.columns.iter_mut().flatten() {
-            c.sample(sim);
+            c.sample(sim, &p);
         }
         Ok(Flow::Continue)
     }
@@ -168,9 +190,10 @@ impl Observer<Dem3> for Probes {
     }
 
     fn on_end(&mut self, sim: &Dem3, _status: &Status, report: &mut Report) -> anyhow::Result<()> {
-        let d = grains_dem3d::diagnostics::measure(&sim.setup, &sim.state);
-        let (setup, s) = (&sim.setup, &sim.state);
-        let p = &s.particles;
+        let d = sim.measured();
+        let setup = &sim.setup;
+        let whole = sim.watched(|_| true);
+        let p = &whole;
         for (k, (spec, slot)) in self.specs.iter().zip(&self.impacts).enumerate() {
             let (name, tol) = (spec.name(), spec.tolerance().unwrap_or(0.0));
             let check = match (spec, slot) {
@@ -178,7 +201,7 @@ impl Observer<Dem3> for Probes {
                     w.check(name, *measure, tol, setup, p, &self.restitution)
                 }
                 (CheckSpec::WallForceOverWeight { wall, .. }, _) => {
-                    Check::relative(name, load_over_weight(sim, wall), 1.0, tol)
+                    Check::relative(name, load_over_weight(sim, p, wall), 1.0, tol)
                 }
                 (
                     CheckSpec::FinalVelocity {
@@ -256,7 +279,7 @@ impl Observer<Dem3> for Probes {
                 }
                 (CheckSpec::Runout { .. }, _) => {
                     let (r0, h0, d) = match &self.columns[k] {
-                        Some(c) => (c.r0, c.h0, c.deposit(sim)),
+                        Some(c) => (c.r0, c.h0, c.deposit(sim, p)),
                         None => (f64::NAN, f64::NAN, Deposit::NAN),
                     };
                     let a = h0 / r0;

@@ -2,8 +2,7 @@
 //! is [`Part`], the 2D run's source (`ranks/part.rs`) compiled over [`grains_dem3d`];
 //! what a 3D scenario cannot do on several ranks is [`unsupported`].
 
-use super::scenario::{CheckSpec, Scenario};
-use crate::ranks::not_on_ranks;
+use super::scenario::Scenario;
 use grains_dem3d as engine;
 
 // Loaded once per engine on purpose: the same source over each engine's types.
@@ -12,31 +11,13 @@ use grains_dem3d as engine;
 mod part;
 
 pub(crate) use part::spread_methods;
-pub use part::{grid, ParallelSpec, Part};
+pub use part::{grid, largest_radius, nearby, watched, ParallelSpec, Part};
 
 /// Why `s` cannot run on several ranks yet, as one line naming what is not supported;
-/// `None` when it can. The engine's own refusal (an expanding neighbour frame) comes
-/// from [`grains_dem3d::decomp::Decomposed::new`].
-pub fn unsupported(s: &Scenario) -> Option<String> {
-    if s.pour.is_some() {
-        // A pour inserts spheres into the whole state after each step.
-        return Some(not_on_ranks("[pour]", "no [pour] table, or 1 rank"));
-    }
-    for c in &s.checks {
-        let at_end = matches!(
-            c,
-            CheckSpec::WallForceOverWeight { .. }
-                | CheckSpec::EnergyClosure { .. }
-                | CheckSpec::FinalVelocity { .. }
-        );
-        if !at_end {
-            // The others watch the spheres at every step or sample, which rank 0 holds
-            // whole only at frames and at the end.
-            return Some(not_on_ranks(
-                &format!("check \"{}\" (it watches the spheres during the run)", c.name()),
-                "kind = \"wall_force_over_weight\", \"energy_closure\" and \"final_velocity\" checks, or 1 rank",
-            ));
-        }
-    }
+/// `None` when it can: every 3D scenario the engine's decomposition carries (its own
+/// refusal, an expanding neighbour frame, comes from
+/// [`grains_dem3d::decomp::Decomposed::new`]). The checks' probes read the spheres
+/// through [`watched`]; a pour draws its spheres from those [`nearby`] its region.
+pub fn unsupported(_s: &Scenario) -> Option<String> {
     None
 }

@@ -117,8 +117,11 @@ pub struct Dem3Run {
     history: HistoryRecorder,
     /// Rank 0's (or the only rank's) series; on the other ranks, their pieces.
     frames: FrameRecorder,
-    /// On rank 0 (or the only rank): the probes read every sphere.
-    probes: Option<Probes>,
+    /// The checks' probes, on every rank (they read the spheres through
+    /// [`Dem3::watched`], a collective on several ranks).
+    probes: Probes,
+    /// Rank 0, or the only rank: it writes.
+    leader: bool,
     rest: Option<RestDetector>,
     name: String,
     out: PathBuf,
@@ -209,7 +212,9 @@ pub fn open_on(
         opts.progress.announce(&format!("warning: {w}"));
     }
     if let Some(link) = link {
-        let part = Part::new(link, &sim.setup, &sim.state, dims, balance).map_err(refused)?;
+        let later = sim.pour.as_ref().map_or(0.0, |p| p.largest());
+        let at = (&sim.setup, &sim.state);
+        let part = Part::new(link, at.0, at.1, dims, (balance, later)).map_err(refused)?;
         sim.ranks = Some(Box::new(part));
     }
     let leader = sim.ranks.as_ref().is_none_or(|p| p.rank() == 0);
@@ -221,7 +226,7 @@ pub fn open_on(
         &plan,
         resume.as_ref().map(|r| &r.progress.counters),
     )?;
-    let mut probes = leader.then(|| Probes::new(&sim, &s.checks, restitution));
+    let mut probes = Probes::new(&sim, &s.checks, restitution);
     let mut rest = s.run.stop_kinetic_ratio.map(|ratio| {
         let p = &sim.state.particles;
         let n = p.len();
@@ -258,6 +263,7 @@ pub fn open_on(
         history,
         frames,
         probes,
+        leader,
         rest,
         name: s.name.clone(),
         out,
@@ -285,7 +291,7 @@ impl Live for Dem3Run {
     fn conclude(&mut self, outcome: Outcome, threads: usize) -> Result<Finished, RunError> {
         let (sim, out) = (&self.sim, &self.out);
         let h = &self.history.history;
-        if self.probes.is_none() {
+        if !self.leader {
             // Another rank than 0: its part is done, rank 0 writes.
             let costs = Costs {
                 dt: sim.dt,
@@ -328,15 +334,15 @@ impl Live for Dem3Run {
     }
 }
 
-/// The observers of a run, in the order they see each step.
+/// The observers of a run, in the order they see each step: the probes first, so that
+/// a failure of rank 0's writers cannot leave the other ranks waiting in their gathers.
 fn watchers<'a>(
     history: &'a mut HistoryRecorder,
     frames: &'a mut FrameRecorder,
-    probes: &'a mut Option<Probes>,
+    probes: &'a mut Probes,
     rest: &'a mut Option<RestDetector>,
 ) -> Vec<&'a mut dyn Observer<Dem3>> {
-    let mut o: Vec<&mut dyn Observer<Dem3>> = vec![history, frames];
-    o.extend(probes.as_mut().map(|p| p as &mut dyn Observer<Dem3>));
+    let mut o: Vec<&mut dyn Observer<Dem3>> = vec![probes, history, frames];
     o.extend(rest.as_mut().map(|r| r as &mut dyn Observer<Dem3>));
     o
 }

@@ -10,7 +10,7 @@
 
 use super::Dem3;
 use glam::DVec3;
-use grains_dem3d::WallShape;
+use grains_dem3d::{Particles, WallShape};
 use serde::{Deserialize, Serialize};
 
 /// The flux through the slab under the orifice against time, from `after` on.
@@ -31,16 +31,20 @@ impl DischargeWatch {
         }
     }
 
-    /// Takes one sample.
-    pub fn sample(&mut self, sim: &Dem3) {
-        if sim.state.time < self.after {
+    /// Whether it samples at `time`.
+    pub fn wants(&self, time: f64) -> bool {
+        time >= self.after
+    }
+
+    /// Takes one sample of every sphere, `p` (in ascending id: the sum's order).
+    pub fn sample(&mut self, sim: &Dem3, p: &Particles) {
+        if !self.wants(sim.state.time) {
             return;
         }
         let Some((c, u, diameter)) = orifice(sim, self.wall) else {
             return;
         };
         let h = 0.5 * diameter;
-        let p = &sim.state.particles;
         let flux: f64 = (0..p.len())
             .filter(|&i| (-h..0.0).contains(&(p.pos[i] - c).dot(u)))
             .map(|i| p.mass(i) * (-p.vel[i].dot(u)).max(0.0))

@@ -14,8 +14,10 @@ use super::engine::decomp::traffic::Totals;
 use super::engine::decomp::{Decomposed, GridError};
 use super::engine::diagnostics::Diagnostics;
 use super::engine::ledger_sums::{self, LedgerSums};
-use super::engine::math::DIM;
-use super::engine::{step_on, EnergyLedger, Exchange, Hooks, NoHooks, Reduce, Setup, State};
+use super::engine::math::{Vector, DIM};
+use super::engine::{
+    step_on, EnergyLedger, Exchange, Hooks, NoHooks, Particles, Reduce, Setup, State,
+};
 use crate::ranks::comm::{Comm, PerStep};
 use crate::ranks::Link;
 use serde::{Deserialize, Serialize};
@@ -112,15 +114,16 @@ impl Part {
     /// This rank's part of `whole` (the start every rank assembled) on the grid `dims`
     /// (chosen when `None`), its cuts moved when the ranks' particle counts are more
     /// uneven than `balance` ([`ParallelSpec::balance_of`]); one line naming what does
-    /// not fit when it cannot be.
+    /// not fit when it cannot be. `later` is the largest radius of the particles a pour
+    /// will add (0 for none): the ghost layer must reach them too.
     pub fn new(
         link: Link,
         setup: &Setup,
         whole: &State,
         dims: Option<[usize; DIM]>,
-        balance: Option<f64>,
+        (balance, later): (Option<f64>, f64),
     ) -> Result<Part, String> {
-        let r_max = whole.particles.radius.iter().fold(0.0f64, |a, &r| a.max(r));
+        let r_max = whole.particles.radius.iter().fold(later, |a, &r| a.max(r));
         let n = link.ranks();
         let mut dec = Decomposed::new(link, setup, dims, r_max)
             .map_err(|e| match dims {
@@ -248,11 +251,58 @@ impl Part {
         }
     }
 
+    /// Inserts `new` (the same on every rank; a collective), numbered as a serial
+    /// insertion numbers them; each rank keeps those in its box. `view` (rank 0's whole
+    /// state between gathers) takes the list's build count.
+    pub fn insert(&mut self, setup: &Setup, new: &Particles, view: &mut State) {
+        self.dec.insert(setup, &mut self.local, new);
+        view.contacts.builds = self.local.contacts.builds;
+    }
+
     /// This rank's own particles (not its ghosts), as indices into `local`.
     pub fn own(&self) -> Vec<usize> {
         (0..self.local.particles.len())
             .filter(|&i| self.dec.owns(i))
             .collect()
+    }
+}
+
+/// What a probe watching particles during a run sees: those that `pick` names by id, in
+/// ascending id, with every field, whether the whole run is here (`whole`, `part` is
+/// `None`) or spread over ranks (`part`: then on every rank, a collective). The same
+/// bits either way, so a probe's figures do not depend on the rank count, nor, in a
+/// serial run, on the storage order.
+pub fn watched(part: Option<&Part>, whole: &State, pick: impl Fn(u32) -> bool) -> Particles {
+    seen(part, whole, |p, i| pick(p.id[i]))
+}
+
+/// The particles, in ascending id, whose centre and radius `near` accepts (as
+/// [`watched`]: here or over every rank, then a collective).
+pub fn nearby(part: Option<&Part>, whole: &State, near: impl Fn(Vector, f64) -> bool) -> Particles {
+    seen(part, whole, |p, i| near(p.pos[i], p.radius[i]))
+}
+
+/// The largest radius of the run's particles (over every rank: a collective).
+pub fn largest_radius(part: Option<&Part>, whole: &State) -> f64 {
+    match part {
+        Some(part) => {
+            let mut r = [part.local.particles.max_radius()];
+            part.dec.max(&mut r);
+            r[0]
+        }
+        None => whole.particles.max_radius(),
+    }
+}
+
+/// The particles `pick` accepts (by index into the particles it is handed), in
+/// ascending id, here or over every rank.
+fn seen(part: Option<&Part>, whole: &State, pick: impl Fn(&Particles, usize) -> bool) -> Particles {
+    match part {
+        Some(part) => {
+            let p = &part.local.particles;
+            part.dec.gather_picked(&part.local, |i| pick(p, i))
+        }
+        None => super::engine::decomp::picked(&whole.particles, |i| pick(&whole.particles, i)),
     }
 }
 

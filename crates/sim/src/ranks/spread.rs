@@ -153,9 +153,10 @@ pub fn spread(src: &Source, n: usize) -> Result<Spread, String> {
 }
 
 /// A DEM start spread as `mpirun` spreads it: `$sim` is the run's module over the
-/// engine `$engine` (2D or 3D, one source as `ranks/part.rs` is), `$cost` its figure.
+/// engine `$engine` (2D or 3D, one source as `ranks/part.rs` is), `$cost` its figure,
+/// `$later` the largest radius a pour of the assembled run adds.
 macro_rules! dem_spread {
-    ($name:ident, $sim:ident, $engine:ident, $cost:path, $doc:literal) => {
+    ($name:ident, $sim:ident, $engine:ident, $cost:path, $later:expr, $doc:literal) => {
         #[doc = $doc]
         fn $name(s: &$sim::scenario::Scenario, src: &Source, n: usize) -> Result<Spread, String> {
             let dims = $sim::ranks::grid(s.parallel.as_ref(), n)?;
@@ -163,10 +164,11 @@ macro_rules! dem_spread {
             refuse(n, || $sim::ranks::unsupported(s))?;
             let a = $sim::assemble::assemble(s, &src.base).map_err(|e| e.to_string())?;
             let walls = a.setup.walls.len();
+            let later: f64 = $later(&a);
             let whole = $engine::State::new(&a.setup, a.particles);
             let setup = &a.setup;
             let held = shares(n, |l| {
-                $sim::ranks::Part::new(l, setup, &whole, dims, balance).map(|p| p.held())
+                $sim::ranks::Part::new(l, setup, &whole, dims, (balance, later)).map(|p| p.held())
             })?;
             let memory = |k: usize| $cost(k as u64, walls, 0, 1).memory_bytes;
             let given = dims.is_some();
@@ -175,12 +177,20 @@ macro_rules! dem_spread {
     };
 }
 
-dem_spread!(flat, dem, grains_dem, dem::check::cost, "A 2D DEM start.");
+dem_spread!(
+    flat,
+    dem,
+    grains_dem,
+    dem::check::cost,
+    |_: &dem::assemble::Assembled| 0.0,
+    "A 2D DEM start."
+);
 dem_spread!(
     solid,
     dem3d,
     grains_dem3d,
     dem3d::run::cost,
+    |a: &dem3d::assemble::Assembled| a.pour.as_ref().map_or(0.0, |p| p.largest()),
     "A 3D DEM start."
 );
 
