@@ -96,7 +96,7 @@ fn chung_ooi_test_1_hertz_impact_of_two_spheres() {
 /// checkpoint.
 #[test]
 fn granular_bed_is_bitwise_on_threads_and_through_a_checkpoint() {
-    use grains_dem3d::granular::{Damping, GranularParams, Normal, Rolling, Tangential};
+    use grains_dem3d::granular::{GranularParams, Rolling};
     let law = GranularParams {
         rolling: Some(Rolling {
             kr: 50.0,
@@ -104,17 +104,7 @@ fn granular_bed_is_bitwise_on_threads_and_through_a_checkpoint() {
             mu_r: 0.1,
         }),
         twisting: true,
-        ..GranularParams::lammps(
-            Normal::HertzMaterial,
-            5e7,
-            Damping::Tsuji,
-            0.5,
-            0.3,
-            Tangential::Mindlin,
-            None,
-            1.0,
-            0.5,
-        )
+        ..bed_law()
     };
     granular_bed_is_bitwise(law);
 }
@@ -308,8 +298,14 @@ fn chung_ooi_test_3_restitution_with_the_solved_damping() {
 /// checkpoint.
 #[test]
 fn plain_granular_bed_is_bitwise_on_threads_and_through_a_checkpoint() {
+    granular_bed_is_bitwise(bed_law());
+}
+
+/// The bed's Hertz–Mindlin–Tsuji law (E 50 MPa, e 0.5, ν 0.3, μ 0.5), on which the
+/// bitwise tests add rolling and twisting or not.
+fn bed_law() -> grains_dem3d::granular::GranularParams {
     use grains_dem3d::granular::{Damping, GranularParams, Normal, Tangential};
-    let law = GranularParams::lammps(
+    GranularParams::lammps(
         Normal::HertzMaterial,
         5e7,
         Damping::Tsuji,
@@ -319,6 +315,5 @@ fn plain_granular_bed_is_bitwise_on_threads_and_through_a_checkpoint() {
         None,
         1.0,
         0.5,
-    );
-    granular_bed_is_bitwise(law);
+    )
 }
