@@ -6,7 +6,7 @@ use super::ranks::RingPart;
 use super::scenario::Scenario;
 use super::{ledger, models, plots, probes, Blast, BlastSample, CAPABILITIES};
 use crate::checkpoint;
-use crate::dem::ranks::{Link, ParallelSpec};
+use crate::dem::ranks::Link;
 use crate::dispersal::DispersalObserver;
 use crate::driver::{
     agreed, discount, restore_observers, Observer, Outcome, Report, Status, Stepper,
@@ -210,11 +210,9 @@ pub fn open_on(
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
     let input = |e: String| RunError::Input(format!("{}: {e}", src.origin));
     let ranks = link.as_ref().map_or(1, |l| l.ranks());
-    let dims = crate::dem::ranks::grid(s.parallel.as_ref(), ranks).map_err(input)?;
-    let balance = ParallelSpec::balance_of(s.parallel.as_ref()).map_err(input)?;
-    if let Some(why) = link.as_ref().and(unsupported(s)) {
-        return Err(input(why));
-    }
+    let (dims, balance) =
+        crate::dem::ranks::layout(s.parallel.as_ref(), link.as_ref(), || unsupported(s))
+            .map_err(input)?;
     let leader = link.as_ref().is_none_or(|l| l.rank() == 0);
     let made = match on_demand(s, &src.base).map_err(input)? {
         // One rank makes a packing the others then read.

@@ -15,7 +15,7 @@ mod part;
 
 pub use crate::ranks::{Link, Transport};
 pub(crate) use part::spread_methods;
-pub use part::{comm_of, grid, largest_radius, nearby, watched, ParallelSpec, Part};
+pub use part::{comm_of, grid, largest_radius, layout, nearby, watched, ParallelSpec, Part};
 
 /// Why `s` cannot run on several ranks yet, as one line naming what is not supported;
 /// `None` when it can. The checks run on ranks: their probes read the particles through

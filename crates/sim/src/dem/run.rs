@@ -16,7 +16,7 @@ use crate::history::HistoryRecorder;
 use crate::run::{finish, resume_hint, summary, Costs, Finished, Live, RunError, RunOptions};
 use crate::source::Source;
 use grains_core::history::History;
-use grains_dem::{Reduce, State};
+use grains_dem::State;
 use std::path::{Path, PathBuf};
 
 /// A checkpoint read back: the run loop's progress and the engine state.
@@ -113,14 +113,9 @@ pub fn open_on(
     let refused = |e: String| RunError::Input(format!("{}: {e}", src.origin));
     let out = opts.out.clone();
     super::check::fits(s, src, opts.threads).map_err(RunError::Input)?;
-    let dims = ranks::grid(s.parallel.as_ref(), link.as_ref().map_or(1, Reduce::ranks))
-        .map_err(refused)?;
-    let balance = ranks::ParallelSpec::balance_of(s.parallel.as_ref()).map_err(refused)?;
-    if link.is_some() {
-        if let Some(why) = ranks::unsupported(s) {
-            return Err(refused(why));
-        }
-    }
+    let (dims, balance) =
+        ranks::layout(s.parallel.as_ref(), link.as_ref(), || ranks::unsupported(s))
+            .map_err(refused)?;
     let (mut sim, steps, dt_critical, implausible) = match &resume {
         None => {
             let a = assemble(s, &src.base).map_err(input)?;

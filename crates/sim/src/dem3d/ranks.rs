@@ -11,7 +11,7 @@ use grains_dem3d as engine;
 mod part;
 
 pub(crate) use part::spread_methods;
-pub use part::{grid, largest_radius, nearby, watched, ParallelSpec, Part};
+pub use part::{grid, largest_radius, layout, nearby, watched, ParallelSpec, Part};
 
 /// Why `s` cannot run on several ranks yet, as one line naming what is not supported;
 /// `None` when it can: every 3D scenario the engine's decomposition carries (its own

@@ -152,14 +152,10 @@ pub fn open_on(
     let input = |e: grains_core::input::InputError| RunError::Input(format!("{}: {e}", src.origin));
     let refused = |e: String| RunError::Input(format!("{}: {e}", src.origin));
     fits(s, src, opts.threads).map_err(RunError::Input)?;
-    let n_ranks = link.as_ref().map_or(1, grains_dem::Reduce::ranks);
-    let dims = super::ranks::grid(s.parallel.as_ref(), n_ranks).map_err(refused)?;
-    let balance = super::ranks::ParallelSpec::balance_of(s.parallel.as_ref()).map_err(refused)?;
-    if link.is_some() {
-        if let Some(why) = super::ranks::unsupported(s) {
-            return Err(refused(why));
-        }
-    }
+    let (dims, balance) = super::ranks::layout(s.parallel.as_ref(), link.as_ref(), || {
+        super::ranks::unsupported(s)
+    })
+    .map_err(refused)?;
     let Assembled {
         setup,
         particles,

@@ -66,6 +66,22 @@ pub fn grid(spec: Option<&ParallelSpec>, ranks: usize) -> Result<Option<[usize; 
     Ok(Some(dims))
 }
 
+/// What every engine's `open_on` settles before it assembles: the rank grid and the
+/// balance `[parallel]` asks for on `link`'s ranks (one rank without a link), and, on
+/// ranks, that the scenario may be spread at all (`unsupported` says why not).
+pub fn layout(
+    spec: Option<&ParallelSpec>,
+    link: Option<&Link>,
+    unsupported: impl FnOnce() -> Option<String>,
+) -> Result<(Option<[usize; DIM]>, Option<f64>), String> {
+    let dims = grid(spec, link.map_or(1, Reduce::ranks))?;
+    let balance = ParallelSpec::balance_of(spec)?;
+    match link.and_then(|_| unsupported()) {
+        Some(why) => Err(why),
+        None => Ok((dims, balance)),
+    }
+}
+
 impl Reduce for Link {
     fn ranks(&self) -> usize {
         grains_dem::Reduce::ranks(&*self.0)
