@@ -5,7 +5,9 @@
 //! radius holding 99 % of the grains (the check's, upright crosses, one series per
 //! column width in grains) and, as a figure only, as the edge of the continuous deposit
 //! at half coverage (diagonal crosses; a run whose edge was not measured has none); the
-//! PNG is written beside the CSV.
+//! PNG is written beside the CSV. A second figure, `…_size.png` (with its data as CSV),
+//! sets both measures over Lube's law against d/R0 for the columns of a ≥ 2.5, with
+//! their least-squares lines carried to d/R0 = 0, the limit of Lube's wide columns.
 //!
 //! `cargo run -p grains-sim --example collapse_runout -- docs/figures/collapse_runout.csv`
 
@@ -107,5 +109,92 @@ fn main() -> anyhow::Result<()> {
     }
     .write_png(&png)?;
     println!("{}", png.display());
+    let size = csv.with_file_name(format!(
+        "{}_size.png",
+        csv.file_stem().map_or("collapse".into(), |s| s.to_string_lossy())
+    ));
+    by_size(&rows, &size)?;
+    println!("{}", size.display());
+    Ok(())
+}
+
+/// The least-squares line y = c0 + c1 x through the points.
+fn fit(x: &[f64], y: &[f64]) -> (f64, f64) {
+    let n = x.len() as f64;
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
+    let c1 = sxy / sxx;
+    (my - c1 * mx, c1)
+}
+
+/// Both measures over Lube's law against d/R0 for the tall columns (a ≥ 2.5) of
+/// `rows` ([a, run-out, R0/d, edge run-out]), each with its fitted line from d/R0 = 0.
+fn by_size(rows: &[[f64; 4]], png: &std::path::Path) -> anyhow::Result<()> {
+    let tall: Vec<&[f64; 4]> = rows
+        .iter()
+        .filter(|r| r[0] >= 2.5 && r[3].is_finite())
+        .collect();
+    anyhow::ensure!(tall.len() >= 2, "fewer than two columns of a ≥ 2.5 with an edge");
+    let x: Vec<f64> = tall.iter().map(|r| 1.0 / r[2]).collect();
+    let q99: Vec<f64> = tall.iter().map(|r| r[1] / lube(r[0])).collect();
+    let edge: Vec<f64> = tall.iter().map(|r| r[3] / lube(r[0])).collect();
+    let right = x.iter().copied().fold(0.0, f64::max) * 1.1;
+    // Each measure one series: a cross per column, then (after a NaN, which breaks the
+    // line) its fitted line from d/R0 = 0, so that both take the same colour.
+    let (dx, dy) = (0.012 * right, 0.012);
+    let measure = |y: &[f64]| -> (Vec<f64>, Vec<f64>, f64) {
+        let (c0, c1) = fit(&x, y);
+        let mut px: Vec<f64> = x
+            .iter()
+            .flat_map(|&a| [a - dx, a + dx, f64::NAN, a, a, f64::NAN])
+            .collect();
+        let mut py: Vec<f64> = y
+            .iter()
+            .flat_map(|&b| [b, b, f64::NAN, b - dy, b + dy, f64::NAN])
+            .collect();
+        px.extend([0.0, right]);
+        py.extend([c0, c0 + c1 * right]);
+        (px, py, c0)
+    };
+    let (q, e) = (measure(&q99), measure(&edge));
+    let names = [
+        format!("99 % radius (the check's) and its fit: {:.2} at d/R0 = 0", q.2),
+        format!("deposit edge at half coverage and its fit: {:.2} at d/R0 = 0", e.2),
+    ];
+    let line_x = [0.0, right];
+    let ones = [1.0, 1.0];
+    let band_x = [0.0, right, f64::NAN, 0.0, right];
+    let band_y = [1.15, 1.15, f64::NAN, 0.85, 0.85];
+    LinePlot {
+        title: "Column collapse, a = 2.5–2.8: run-out over Lube et al.'s against grain size",
+        x_label: "d/R0 (grain diameter over column radius)",
+        y_label: "run-out over Lube et al.'s 1.6 a^1/2",
+        series: vec![
+            Series {
+                name: "Lube et al. 2004 (experiments: R0/d ≫ 10)",
+                x: &line_x,
+                y: &ones,
+            },
+            Series {
+                name: &names[0],
+                x: &q.0,
+                y: &q.1,
+            },
+            Series {
+                name: &names[1],
+                x: &e.0,
+                y: &e.1,
+            },
+            Series {
+                name: "Lube et al. ± 15 %",
+                x: &band_x,
+                y: &band_y,
+            },
+        ],
+        log_y: false,
+        points: false,
+    }
+    .write_png_and_csv(png)?;
     Ok(())
 }

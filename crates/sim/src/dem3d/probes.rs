@@ -240,6 +240,17 @@ impl Observer<Dem3> for Probes {
                         beverloo(0.65, 1.3, rho_b, g, d_hole, d),
                     );
                     let c_fit = rate / beverloo(1.0, 1.5, rho_b, g, d_hole, d);
+                    // Beside the check, which keeps the scenario's `packing`: the bed's
+                    // measured packing and C at k = 1.5 with the bulk density it gives.
+                    let measured = w.map_or(f64::NAN, DischargeWatch::packing);
+                    let rho_measured = measured * mass / volume;
+                    let c_measured = rate / beverloo(1.0, 1.5, rho_measured, g, d_hole, d);
+                    report
+                        .figures
+                        .insert(format!("{name}_packing_measured"), measured.into());
+                    report
+                        .figures
+                        .insert(format!("{name}_c_at_k1.5_measured"), c_measured.into());
                     report
                         .figures
                         .insert(format!("{name}_rate_kg_s"), rate.into());

@@ -7,9 +7,17 @@
 //! law,
 //! W = C ρ_b √g (D − k d)^{5/2} (D the orifice's diameter, d the grains' mean diameter,
 //! ρ_b the bulk density), is what W is set against.
+//!
+//! The bed's packing fraction is measured beside it at the same samples, so that ρ_b
+//! need not be assumed: the spheres' volume over the measuring volume, counted by
+//! centre, in slabs one mean diameter thick inside the silo's cylinder (2 d off its
+//! wall), from two orifice diameters above the floor, clear of the converging flow, to
+//! three slabs under the bed's surface (the first slab, going up, at under half the
+//! densest one's fraction: grains recycled through the top rain onto the bed).
 
 use super::Dem3;
 use glam::DVec3;
+use grains_dem3d::math::measure;
 use grains_dem3d::{Particles, WallShape};
 use serde::{Deserialize, Serialize};
 
@@ -19,6 +27,10 @@ pub struct DischargeWatch {
     wall: usize,
     after: f64,
     samples: Vec<(f64, f64)>,
+    /// The bed's packing fraction at each sample where it could be measured (absent
+    /// from checkpoints written before it was kept).
+    #[serde(default)]
+    packings: Vec<f64>,
 }
 
 impl DischargeWatch {
@@ -28,6 +40,7 @@ impl DischargeWatch {
             wall,
             after,
             samples: Vec::new(),
+            packings: Vec::new(),
         }
     }
 
@@ -50,12 +63,70 @@ impl DischargeWatch {
             .map(|i| p.mass(i) * (-p.vel[i].dot(u)).max(0.0))
             .sum();
         self.samples.push((sim.state.time, flux / h));
+        if let Some(phi) = bed_packing(sim, p, (c, u, diameter)) {
+            self.packings.push(phi);
+        }
     }
 
     /// The steady mass flow rate (kg/s), NaN before any sample.
     pub fn rate(&self) -> f64 {
         self.samples.iter().map(|s| s.1).sum::<f64>() / self.samples.len() as f64
     }
+
+    /// The bed's mean packing fraction over the samples, NaN where it was never
+    /// measured (no silo cylinder about the orifice, or a bed too shallow).
+    pub fn packing(&self) -> f64 {
+        self.packings.iter().sum::<f64>() / self.packings.len() as f64
+    }
+}
+
+/// The packing fraction of the bed above the orifice `(c, u, diameter)` (module doc),
+/// or `None` without an inner cylinder wall along `u` or without a slab to measure.
+fn bed_packing(sim: &Dem3, p: &Particles, (c, u, diameter): (DVec3, DVec3, f64)) -> Option<f64> {
+    let (axis_point, radius) = sim.setup.walls.iter().find_map(|w| match w.shape {
+        WallShape::Cylinder {
+            point,
+            axis,
+            radius,
+            inside: true,
+        } if DVec3::from(axis).normalize().dot(u).abs() > 1.0 - 1e-9 => {
+            Some((DVec3::from(point), radius))
+        }
+        _ => None,
+    })?;
+    let n = p.len();
+    if n == 0 {
+        return None;
+    }
+    let d = 2.0 * p.radius.iter().sum::<f64>() / n as f64;
+    let reach = radius - 2.0 * d;
+    if reach <= 0.0 {
+        return None;
+    }
+    let mut slabs: Vec<f64> = Vec::new();
+    for i in 0..n {
+        let x = p.pos[i] - axis_point;
+        let off_axis = x - x.dot(u) * u;
+        let height = (p.pos[i] - c).dot(u);
+        if off_axis.length() > reach || height < 0.0 {
+            continue;
+        }
+        let k = (height / d) as usize;
+        if k >= slabs.len() {
+            slabs.resize(k + 1, 0.0);
+        }
+        slabs[k] += measure(p.radius[i]);
+    }
+    let slab_volume = std::f64::consts::PI * reach * reach * d;
+    let densest = slabs.iter().copied().fold(0.0, f64::max);
+    let first = (2.0 * diameter / d).ceil() as usize;
+    let surface = (first..slabs.len())
+        .find(|&k| slabs[k] < 0.5 * densest)
+        .unwrap_or(slabs.len());
+    let last = surface.checked_sub(3)?;
+    (first <= last).then(|| {
+        slabs[first..=last].iter().sum::<f64>() / (slab_volume * (last + 1 - first) as f64)
+    })
 }
 
 /// The centre, the unit normal pointing into the silo (against gravity) and the
