@@ -111,7 +111,8 @@ fn main() -> anyhow::Result<()> {
     println!("{}", png.display());
     let size = csv.with_file_name(format!(
         "{}_size.png",
-        csv.file_stem().map_or("collapse".into(), |s| s.to_string_lossy())
+        csv.file_stem()
+            .map_or("collapse".into(), |s| s.to_string_lossy())
     ));
     by_size(&rows, &size)?;
     println!("{}", size.display());
@@ -135,7 +136,10 @@ fn by_size(rows: &[[f64; 4]], png: &std::path::Path) -> anyhow::Result<()> {
         .iter()
         .filter(|r| r[0] >= 2.5 && r[3].is_finite())
         .collect();
-    anyhow::ensure!(tall.len() >= 2, "fewer than two columns of a ≥ 2.5 with an edge");
+    anyhow::ensure!(
+        tall.len() >= 2,
+        "fewer than two columns of a ≥ 2.5 with an edge"
+    );
     let x: Vec<f64> = tall.iter().map(|r| 1.0 / r[2]).collect();
     let q99: Vec<f64> = tall.iter().map(|r| r[1] / lube(r[0])).collect();
     let edge: Vec<f64> = tall.iter().map(|r| r[3] / lube(r[0])).collect();
@@ -159,8 +163,14 @@ fn by_size(rows: &[[f64; 4]], png: &std::path::Path) -> anyhow::Result<()> {
     };
     let (q, e) = (measure(&q99), measure(&edge));
     let names = [
-        format!("99 % radius (the check's) and its fit: {:.2} at d/R0 = 0", q.2),
-        format!("deposit edge at half coverage and its fit: {:.2} at d/R0 = 0", e.2),
+        format!(
+            "99 % radius (the check's) and its fit: {:.2} at d/R0 = 0",
+            q.2
+        ),
+        format!(
+            "deposit edge at half coverage and its fit: {:.2} at d/R0 = 0",
+            e.2
+        ),
     ];
     let line_x = [0.0, right];
     let ones = [1.0, 1.0];

@@ -18,7 +18,7 @@
 use super::Dem3;
 use glam::DVec3;
 use grains_dem3d::math::measure;
-use grains_dem3d::{Particles, WallShape};
+use grains_dem3d::{Particles, Wall, WallShape};
 use serde::{Deserialize, Serialize};
 
 /// The flux through the slab under the orifice against time, from `after` on.
@@ -63,7 +63,7 @@ impl DischargeWatch {
             .map(|i| p.mass(i) * (-p.vel[i].dot(u)).max(0.0))
             .sum();
         self.samples.push((sim.state.time, flux / h));
-        if let Some(phi) = bed_packing(sim, p, (c, u, diameter)) {
+        if let Some(phi) = bed_packing(&sim.setup.walls, p, (c, u, diameter)) {
             self.packings.push(phi);
         }
     }
@@ -82,8 +82,12 @@ impl DischargeWatch {
 
 /// The packing fraction of the bed above the orifice `(c, u, diameter)` (module doc),
 /// or `None` without an inner cylinder wall along `u` or without a slab to measure.
-fn bed_packing(sim: &Dem3, p: &Particles, (c, u, diameter): (DVec3, DVec3, f64)) -> Option<f64> {
-    let (axis_point, radius) = sim.setup.walls.iter().find_map(|w| match w.shape {
+fn bed_packing(
+    walls: &[Wall],
+    p: &Particles,
+    (c, u, diameter): (DVec3, DVec3, f64),
+) -> Option<f64> {
+    let (axis_point, radius) = walls.iter().find_map(|w| match w.shape {
         WallShape::Cylinder {
             point,
             axis,
@@ -154,4 +158,62 @@ pub fn orifice(sim: &Dem3, w: usize) -> Option<(DVec3, DVec3, f64)> {
 /// Beverloo's W = C ρ_b √g (D − k d)^{5/2} (kg/s); zero when D ≤ k d.
 pub fn beverloo(c: f64, k: f64, rho_b: f64, g: f64, orifice: f64, d: f64) -> f64 {
     c * rho_b * g.sqrt() * (orifice - k * d).max(0.0).powf(2.5)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Spheres of diameter `d` on a simple cubic lattice of spacing `d`, filling a
+    /// cylinder of radius 12 d to 30 layers above an orifice at the origin.
+    fn lattice(d: f64) -> (Vec<Wall>, Particles) {
+        let cylinder = WallShape::Cylinder {
+            point: [0.0; 3],
+            axis: [0.0, 0.0, 1.0],
+            radius: 12.0 * d,
+            inside: true,
+        };
+        let mut p = Particles::default();
+        for k in 0..30 {
+            for i in -12..=12 {
+                for j in -12..=12 {
+                    let x = DVec3::new(i as f64, j as f64, k as f64 + 0.5) * d;
+                    if x.truncate().length() <= 11.5 * d {
+                        p.push(x, 0.5 * d, 2500.0, 0.4, 0, DVec3::ZERO, DVec3::ZERO);
+                    }
+                }
+            }
+        }
+        (vec![Wall::fixed("silo", cylinder, None)], p)
+    }
+
+    #[test]
+    fn a_lattice_bed_has_its_packing_fraction() {
+        let d = 0.004;
+        let (walls, p) = lattice(d);
+        let orifice = (DVec3::ZERO, DVec3::Z, 2.0 * d);
+        // Per layer, the lattice sites within the measuring radius 12 d − 2 d.
+        let sites = (-12..=12_i32)
+            .flat_map(|i| (-12..=12_i32).map(move |j| (i, j)))
+            .filter(|&(i, j)| f64::from(i * i + j * j).sqrt() <= 10.0)
+            .count() as f64;
+        let expected = sites * measure(0.5 * d) / (std::f64::consts::PI * 100.0 * d * d * d);
+        let phi = bed_packing(&walls, &p, orifice).expect("a bed to measure");
+        assert!(
+            (phi - expected).abs() < 1e-12 * expected,
+            "{phi} against {expected}"
+        );
+        // π/6 for the lattice, to within the circle's count of sites.
+        assert!((phi / (std::f64::consts::PI / 6.0) - 1.0).abs() < 0.02);
+    }
+
+    #[test]
+    fn without_a_silo_wall_or_a_deep_bed_nothing_is_measured() {
+        let d = 0.004;
+        let (walls, p) = lattice(d);
+        let orifice = (DVec3::ZERO, DVec3::Z, 2.0 * d);
+        assert!(bed_packing(&[], &p, orifice).is_none());
+        // Orifice so wide that two of its diameters reach past the surface.
+        assert!(bed_packing(&walls, &p, (DVec3::ZERO, DVec3::Z, 14.0 * d)).is_none());
+    }
 }
