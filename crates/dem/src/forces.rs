@@ -7,6 +7,7 @@ use crate::ledger::{Off, On, PassTally, Tally};
 use crate::math::{self, AngVector, Components, Tangent, TangentOps, Vector, ANG, DIM, TAN};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
+use crate::pass_fields::PassFields;
 use crate::setup::Setup;
 use crate::CHUNK;
 use rayon::prelude::*;
@@ -237,15 +238,7 @@ macro_rules! pass_ctx {
         Ctx {
             image: Image::<P>::new(&$setup.domain),
             lookup: $lookup,
-            row: &$list.row,
-            nbr: &$list.nbr,
-            owner: &$list.owner,
-            pos: &$p.pos,
-            vel: &$p.vel,
-            omega: &$p.omega,
-            radius: &$p.radius,
-            inv_mass: &$p.inv_mass,
-            material: &$p.material,
+            f: crate::pass_fields::pass_fields!($p, $list),
             dt: $dt,
             tally: std::marker::PhantomData::<T>,
         }
@@ -332,15 +325,8 @@ const _: () = assert!(BLOCK.is_power_of_two());
 struct Ctx<'a, L, T, const P: u8> {
     image: Image<P>,
     lookup: &'a L,
-    row: &'a [u32],
-    nbr: &'a [u32],
-    owner: &'a [u32],
-    pos: &'a [Vector],
-    vel: &'a [Vector],
-    omega: &'a [AngVector],
-    radius: &'a [f64],
-    inv_mass: &'a [f64],
-    material: &'a [u16],
+    /// The particles' and the list's fields the pass reads.
+    f: PassFields<'a>,
     dt: f64,
     tally: std::marker::PhantomData<T>,
 }
@@ -421,7 +407,7 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
     /// With the ledger, each row's terms go to `terms`. Returns how many of the chunk's
     /// entries touch.
     fn chunk(&self, c: &mut Chunk) -> usize {
-        let base = self.row[c.range.start] as usize;
+        let base = self.f.row[c.range.start] as usize;
         c.force.fill(Vector::ZERO);
         c.torque.fill(AngVector::default());
         c.terms.fill(PassTally::default());
@@ -437,13 +423,13 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
         });
         // One flat loop over the chunk's entries: a loop per row (two to five entries)
         // ends at a place the branch predictor cannot know.
-        let entries = base..self.row[c.range.end] as usize;
-        let (owner, nbr) = (&self.owner[entries.clone()], &self.nbr[entries]);
+        let entries = base..self.f.row[c.range.end] as usize;
+        let (owner, nbr) = (&self.f.owner[entries.clone()], &self.f.nbr[entries]);
         for (k, (&i, &j)) in owner.iter().zip(nbr).enumerate() {
             let (i, j) = (i as usize, j as usize);
-            let (pi, ri) = (self.pos[i], self.radius[i]);
-            let d = self.image.apply(self.pos[j] - pi);
-            let rj = self.radius[j];
+            let (pi, ri) = (self.f.pos[i], self.f.radius[i]);
+            let d = self.image.apply(self.f.pos[j] - pi);
+            let rj = self.f.radius[j];
             let rsum = ri + rj;
             let dist2 = d.length_squared();
             // Every entry is written into the block's next slot, and the slot is kept
@@ -503,15 +489,15 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
         let n = b.len.min(BLOCK);
         for t in 0..n {
             let (i, j) = (b.i[t] as usize, b.j[t] as usize);
-            let (vi, vj) = (self.vel[i], self.vel[j]);
-            let (wi, wj) = (self.omega[i], self.omega[j]);
-            let (ri, rj) = (self.radius[i], self.radius[j]);
-            let (mi, mj) = (self.inv_mass[i], self.inv_mass[j]);
+            let (vi, vj) = (self.f.vel[i], self.f.vel[j]);
+            let (wi, wj) = (self.f.omega[i], self.f.omega[j]);
+            let (ri, rj) = (self.f.radius[i], self.f.radius[j]);
+            let (mi, mj) = (self.f.inv_mass[i], self.f.inv_mass[j]);
             (vi - vj).write(&mut b.v, t);
             (ri * wi + rj * wj).write(&mut b.spin, t);
             b.inv_msum[t] = mi + mj;
             if !L::UNIFORM {
-                b.params[t] = *self.lookup.params(self.material[i], self.material[j]);
+                b.params[t] = *self.lookup.params(self.f.material[i], self.f.material[j]);
             }
         }
     }
@@ -554,7 +540,7 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
                 let (i, j) = (b.i[t] as usize, b.j[t] as usize);
                 let prior = Prior {
                     overlap: b.rsum[t] - (d + self.dt * contact.v).length(),
-                    omega_sum: self.omega[i] + self.omega[j],
+                    omega_sum: self.f.omega[i] + self.f.omega[j],
                 };
                 tl.terms[t] = pp.ledger_terms(&contact, &xi0, &xi, &r, self.dt, &prior);
             }
@@ -600,7 +586,7 @@ impl<L: PairLookup, T: Tally, const P: u8> Ctx<'_, L, T, P> {
         let (owner, f_own, t_own) = b.row;
         if owner != usize::MAX {
             c.force[owner - c.range.start] = f_own;
-            c.torque[owner - c.range.start] = self.radius[owner] * t_own;
+            c.torque[owner - c.range.start] = self.f.radius[owner] * t_own;
             if T::ON {
                 c.terms[owner - c.range.start] = b.row_terms;
             }

@@ -22,6 +22,7 @@ use crate::ledger::PassTally;
 use crate::math::{self, AngVector, Components, Tangent, TangentOps, Vector, ANG, DIM, TAN};
 use crate::neighbours::ContactList;
 use crate::particles::Particles;
+use crate::pass_fields::PassFields;
 use crate::setup::Setup;
 use crate::CHUNK;
 use rayon::prelude::*;
@@ -79,15 +80,7 @@ macro_rules! pass_ctx {
     ($setup:expr, $table:expr, $p:expr, $list:expr, $dt:expr) => {
         Ctx {
             image: Image::<P>::new(&$setup.domain),
-            owner: &$list.owner,
-            nbr: &$list.nbr,
-            row: &$list.row,
-            pos: &$p.pos,
-            vel: &$p.vel,
-            omega: &$p.omega,
-            radius: &$p.radius,
-            inv_mass: &$p.inv_mass,
-            material: &$p.material,
+            f: crate::pass_fields::pass_fields!($p, $list),
             table: $table,
             dt: $dt,
         }
@@ -180,15 +173,8 @@ fn run<const P: u8>(
 /// Everything the pass reads.
 struct Ctx<'a, const P: u8> {
     image: Image<P>,
-    owner: &'a [u32],
-    nbr: &'a [u32],
-    row: &'a [u32],
-    pos: &'a [Vector],
-    vel: &'a [Vector],
-    omega: &'a [AngVector],
-    radius: &'a [f64],
-    inv_mass: &'a [f64],
-    material: &'a [u16],
+    /// The particles' and the list's fields the pass reads.
+    f: PassFields<'a>,
     table: &'a PairTable<GranularParams>,
     dt: f64,
 }
@@ -199,15 +185,23 @@ impl<const P: u8> Ctx<'_, P> {
     /// touch.
     fn scalar<const BOOK: bool>(&self, uniform: Option<&GranularParams>, c: &mut Chunk) -> usize {
         let first = c.range.start;
-        let base = self.row[first] as usize;
-        let (pos, vel, omega, radius, inv_mass) =
-            (self.pos, self.vel, self.omega, self.radius, self.inv_mass);
+        let base = self.f.row[first] as usize;
+        let (pos, vel, omega, radius, inv_mass) = (
+            self.f.pos,
+            self.f.vel,
+            self.f.omega,
+            self.f.radius,
+            self.f.inv_mass,
+        );
         let dt = self.dt;
         c.force.fill(Vector::ZERO);
         c.torque.fill(AngVector::default());
         c.terms.fill(PassTally::default());
         for k in 0..c.slot.len() {
-            let (i, j) = (self.owner[base + k] as usize, self.nbr[base + k] as usize);
+            let (i, j) = (
+                self.f.owner[base + k] as usize,
+                self.f.nbr[base + k] as usize,
+            );
             let d = self.image.apply(pos[j] - pos[i]);
             let (ri, rj) = (radius[i], radius[j]);
             let rsum = ri + rj;
@@ -229,7 +223,7 @@ impl<const P: u8> Ctx<'_, P> {
                 Some(law) => law,
                 None => self
                     .table
-                    .get(self.material[i] as usize, self.material[j] as usize),
+                    .get(self.f.material[i] as usize, self.f.material[j] as usize),
             };
             let s = c.pool.take(&mut c.slot[k]);
             let mut h = c.pool.at(s);
@@ -257,15 +251,18 @@ impl<const P: u8> Ctx<'_, P> {
     /// ([`Plain::respond`]), the same operations as [`crate::granular::respond`], so the same bits.
     /// Returns how many entries touch.
     fn blocked(&self, law: &Plain, c: &mut Chunk) -> usize {
-        let base = self.row[c.range.start] as usize;
+        let base = self.f.row[c.range.start] as usize;
         c.force.fill(Vector::ZERO);
         c.torque.fill(AngVector::default());
         let mut b = Block::new();
         let mut len = 0usize;
         for k in 0..c.slot.len() {
-            let (i, j) = (self.owner[base + k] as usize, self.nbr[base + k] as usize);
-            let d = self.image.apply(self.pos[j] - self.pos[i]);
-            let rsum = self.radius[i] + self.radius[j];
+            let (i, j) = (
+                self.f.owner[base + k] as usize,
+                self.f.nbr[base + k] as usize,
+            );
+            let d = self.image.apply(self.f.pos[j] - self.f.pos[i]);
+            let rsum = self.f.radius[i] + self.f.radius[j];
             let dist2 = d.length_squared();
             if !c.touches(k, dist2 < rsum * rsum && dist2 > 0.0) {
                 continue;
@@ -293,12 +290,12 @@ impl<const P: u8> Ctx<'_, P> {
         let n = len.min(BLOCK);
         for t in 0..n {
             let (i, j, k) = (b.i[t] as usize, b.j[t] as usize, b.entry[t] as usize);
-            let (ri, rj) = (self.radius[i], self.radius[j]);
-            (self.vel[i] - self.vel[j]).write(&mut b.v, t);
-            (ri * self.omega[i] + rj * self.omega[j]).write(&mut b.spin, t);
+            let (ri, rj) = (self.f.radius[i], self.f.radius[j]);
+            (self.f.vel[i] - self.f.vel[j]).write(&mut b.v, t);
+            (ri * self.f.omega[i] + rj * self.f.omega[j]).write(&mut b.spin, t);
             b.ri[t] = ri;
             b.rj[t] = rj;
-            b.inv_msum[t] = self.inv_mass[i] + self.inv_mass[j];
+            b.inv_msum[t] = self.f.inv_mass[i] + self.f.inv_mass[j];
             Tangent::from_slice(c.pool.spring(c.slot[k])).write(&mut b.xi, t);
         }
         // The deck's law (Hertz, Tsuji, Mindlin) and the step's update are fixed at

@@ -39,6 +39,7 @@ pub mod material;
 pub mod math;
 pub mod neighbours;
 pub mod particles;
+mod pass_fields;
 pub mod restitution;
 pub mod setup;
 pub mod step;
