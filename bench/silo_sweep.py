@@ -28,6 +28,8 @@ args = [a for a in sys.argv[1:] if a not in ('--full', '--from-work')]
 full = '--full' in sys.argv[1:]
 from_work = '--from-work' in sys.argv[1:]
 grains, out = args[0:2]
+if from_work and len(args) < 3:
+    sys.exit('silo_sweep.py: --from-work reads the runs in WORK_DIR: name it (GRAINS_BINARY is not used then)')
 work = args[2] if len(args) > 2 else tempfile.mkdtemp()
 here = os.path.dirname(os.path.abspath(__file__))
 examples = os.path.join(here, '..', 'examples', 'dem3d')

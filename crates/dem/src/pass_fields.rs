@@ -13,13 +13,17 @@ pub(crate) struct PassFields<'a> {
     pub nbr: &'a [u32],
     /// Each entry's owner.
     pub owner: &'a [u32],
-    /// The particles' positions, velocities, spins, radii, inverse masses and
-    /// materials.
+    /// The particles' positions.
     pub pos: &'a [Vector],
+    /// Velocities.
     pub vel: &'a [Vector],
+    /// Angular velocities.
     pub omega: &'a [AngVector],
+    /// Radii.
     pub radius: &'a [f64],
+    /// Inverse masses.
     pub inv_mass: &'a [f64],
+    /// Materials.
     pub material: &'a [u16],
 }
 

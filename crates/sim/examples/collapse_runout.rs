@@ -5,9 +5,10 @@
 //! radius holding 99 % of the grains (the check's, upright crosses, one series per
 //! column width in grains) and, as a figure only, as the edge of the continuous deposit
 //! at half coverage (diagonal crosses; a run whose edge was not measured has none); the
-//! PNG is written beside the CSV. A second figure, `…_size.png` (with its data as CSV),
-//! sets both measures over Lube's law against d/R0 for the columns of a ≥ 2.5, with
-//! their least-squares lines carried to d/R0 = 0, the limit of Lube's wide columns.
+//! PNG is written beside the CSV. A second figure, `…_size.png` (its points and fits
+//! also in `…_size.csv`), sets both measures over Lube's law against d/R0 for the
+//! columns of a ≥ 2.5, with their least-squares lines carried to d/R0 = 0, the limit of
+//! Lube's wide columns; it is left out where fewer than two column widths have an edge.
 //!
 //! `cargo run -p grains-sim --example collapse_runout -- docs/figures/collapse_runout.csv`
 
@@ -114,8 +115,13 @@ fn main() -> anyhow::Result<()> {
         csv.file_stem()
             .map_or("collapse".into(), |s| s.to_string_lossy())
     ));
-    by_size(&rows, &size)?;
-    println!("{}", size.display());
+    match by_size(&rows, &size)? {
+        true => println!("{}", size.display()),
+        false => println!(
+            "(no {}: fewer than two column widths of a ≥ 2.5 with an edge)",
+            size.display()
+        ),
+    }
     Ok(())
 }
 
@@ -130,16 +136,19 @@ fn fit(x: &[f64], y: &[f64]) -> (f64, f64) {
 }
 
 /// Both measures over Lube's law against d/R0 for the tall columns (a ≥ 2.5) of
-/// `rows` ([a, run-out, R0/d, edge run-out]), each with its fitted line from d/R0 = 0.
-fn by_size(rows: &[[f64; 4]], png: &std::path::Path) -> anyhow::Result<()> {
+/// `rows` ([a, run-out, R0/d, edge run-out]), each with its fitted line from d/R0 = 0;
+/// false (nothing written) where fewer than two column widths have an edge.
+fn by_size(rows: &[[f64; 4]], png: &std::path::Path) -> anyhow::Result<bool> {
     let tall: Vec<&[f64; 4]> = rows
         .iter()
         .filter(|r| r[0] >= 2.5 && r[3].is_finite())
         .collect();
-    anyhow::ensure!(
-        tall.len() >= 2,
-        "fewer than two columns of a ≥ 2.5 with an edge"
-    );
+    let mut widths: Vec<f64> = tall.iter().map(|r| r[2]).collect();
+    widths.sort_by(f64::total_cmp);
+    widths.dedup();
+    if widths.len() < 2 {
+        return Ok(false);
+    }
     let x: Vec<f64> = tall.iter().map(|r| 1.0 / r[2]).collect();
     let q99: Vec<f64> = tall.iter().map(|r| r[1] / lube(r[0])).collect();
     let edge: Vec<f64> = tall.iter().map(|r| r[3] / lube(r[0])).collect();
@@ -205,6 +214,18 @@ fn by_size(rows: &[[f64; 4]], png: &std::path::Path) -> anyhow::Result<()> {
         log_y: false,
         points: false,
     }
-    .write_png_and_csv(png)?;
-    Ok(())
+    .write_png(png)?;
+    // The data, not the drawing: one row per column, then the fits.
+    let mut csv =
+        String::from("r0_over_d,d_over_r0,aspect_ratio,runout_over_lube,edge_runout_over_lube\n");
+    for (r, ((x, q), e)) in tall.iter().zip(x.iter().zip(&q99).zip(&edge)) {
+        csv += &format!("{},{x:.6},{},{q:.6},{e:.6}\n", r[2], r[0]);
+    }
+    let ((q0, q1), (e0, e1)) = (fit(&x, &q99), fit(&x, &edge));
+    csv += &format!(
+        "# least squares: runout_over_lube = {q0:.4} + {q1:.4} d/R0; \
+         edge_runout_over_lube = {e0:.4} + {e1:.4} d/R0\n"
+    );
+    std::fs::write(png.with_extension("csv"), csv)?;
+    Ok(true)
 }

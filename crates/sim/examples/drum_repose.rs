@@ -5,7 +5,7 @@
 //! sweep's name in the legend (default: the file's stem); the PNG is written beside
 //! the first CSV.
 //!
-//! `cargo run -p grains-sim --example drum_repose -- "docs/figures/drum_repose.csv=small drum (D/d 15)" "docs/figures/drum_repose_full.csv=drum (D/d 31)"`
+//! `cargo run -p grains-sim --example drum_repose -- "docs/figures/drum_repose.csv=small drum (drum_small, D/d 15)" "docs/figures/drum_repose_full.csv=drum (drum.toml, D/d 30)"`
 
 use grains_core::plot::{write_grid_png, LinePlot, Series};
 use std::path::{Path, PathBuf};

@@ -1,8 +1,9 @@
 //! Silo discharge against Beverloo's law: the mass flow rate W measured against the
 //! orifice's diameter D for each sweep `bench/silo_sweep.py` wrote (its CSV: columns
-//! D_over_d, orifice_m, rate_kg_s, c_at_k1.5, and a last comment line with the fit, the
-//! mean diameter d and the bulk density ρ_b), beside W = C ρ_b √g (D − k d)^{5/2} at each
-//! sweep's fitted (C, k) and at the literature's C = 0.58, k = 1.5. The PNG is written
+//! D_over_d, orifice_m, rate_kg_s, c_at_k1.5, packing_measured, c_at_k1.5_measured, and
+//! a last comment line with the fit, the mean diameter d and the bulk density ρ_b the
+//! fit used), each run a cross, beside W = C ρ_b √g (D − k d)^{5/2} at each sweep's
+//! fitted (C, k) and at the literature's C = 0.58, k = 1.5. The PNG is written
 //! beside the first CSV, its name ending `_plot.png`. Each argument is a CSV, optionally
 //! followed by `=` and the sweep's name in the legend (default: the file's stem).
 //!
@@ -96,8 +97,36 @@ fn main() -> anyhow::Result<()> {
             .as_deref()
             .or_else(|| csv.file_stem().and_then(|s| s.to_str()))
             .unwrap_or("sweep");
-        let d: Vec<f64> = s.rows.iter().map(|r| 1e3 * r.0).collect();
-        let w: Vec<f64> = s.rows.iter().map(|r| 1e3 * r.1).collect();
+        // Each run a cross (two strokes broken by NaN: a series' points are joined).
+        let (dx, dy) = (0.01 * 1e3 * (hi - lo), 2.5);
+        let d: Vec<f64> = s
+            .rows
+            .iter()
+            .flat_map(|r| {
+                [
+                    1e3 * r.0 - dx,
+                    1e3 * r.0 + dx,
+                    f64::NAN,
+                    1e3 * r.0,
+                    1e3 * r.0,
+                    f64::NAN,
+                ]
+            })
+            .collect();
+        let w: Vec<f64> = s
+            .rows
+            .iter()
+            .flat_map(|r| {
+                [
+                    1e3 * r.1,
+                    1e3 * r.1,
+                    f64::NAN,
+                    1e3 * r.1 - dy,
+                    1e3 * r.1 + dy,
+                    f64::NAN,
+                ]
+            })
+            .collect();
         data.push((
             format!("measured, {stem}"),
             d,
@@ -111,7 +140,10 @@ fn main() -> anyhow::Result<()> {
     }
     let first = &sweeps[0];
     let lit = beverloo(&curve_d, (C_LIT, K_LIT), first.d, first.rho_b);
-    let lit_name = format!("Beverloo, C = {C_LIT}, k = {K_LIT} (literature)");
+    let lit_name = format!(
+        "Beverloo, C = {C_LIT}, k = {K_LIT} (literature), ρ_b = {:.0} kg/m³ as the first sweep's",
+        first.rho_b
+    );
     let mut series = Vec::new();
     for (name, d, w, fit_name, fit) in &data {
         series.push(Series { name, x: d, y: w });

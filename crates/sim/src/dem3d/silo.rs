@@ -107,20 +107,20 @@ fn bed_packing(
     if reach <= 0.0 {
         return None;
     }
-    let mut slabs: Vec<f64> = Vec::new();
+    // A bed is at most n slabs deep: a sphere above that (or not finite, in a run
+    // that diverged) is not in it.
+    let mut slabs: Vec<f64> = vec![0.0; n];
     for i in 0..n {
         let x = p.pos[i] - axis_point;
         let off_axis = x - x.dot(u) * u;
-        let height = (p.pos[i] - c).dot(u);
-        if off_axis.length() > reach || height < 0.0 {
-            continue;
+        let k = (p.pos[i] - c).dot(u) / d;
+        let inside = off_axis.length() <= reach && (0.0..n as f64).contains(&k);
+        if inside {
+            slabs[k as usize] += measure(p.radius[i]);
         }
-        let k = (height / d) as usize;
-        if k >= slabs.len() {
-            slabs.resize(k + 1, 0.0);
-        }
-        slabs[k] += measure(p.radius[i]);
     }
+    let top = slabs.iter().rposition(|&v| v > 0.0).map_or(0, |k| k + 1);
+    slabs.truncate(top);
     let slab_volume = std::f64::consts::PI * reach * reach * d;
     let densest = slabs.iter().copied().fold(0.0, f64::max);
     let first = (2.0 * diameter / d).ceil() as usize;
@@ -165,12 +165,13 @@ mod tests {
     use super::*;
 
     /// Spheres of diameter `d` on a simple cubic lattice of spacing `d`, filling a
-    /// cylinder of radius 12 d to 30 layers above an orifice at the origin.
+    /// cylinder of radius 12.25 d (no site on the measuring radius, 10.25 d) to 30
+    /// layers above an orifice at the origin.
     fn lattice(d: f64) -> (Vec<Wall>, Particles) {
         let cylinder = WallShape::Cylinder {
             point: [0.0; 3],
             axis: [0.0, 0.0, 1.0],
-            radius: 12.0 * d,
+            radius: 12.25 * d,
             inside: true,
         };
         let mut p = Particles::default();
@@ -192,12 +193,13 @@ mod tests {
         let d = 0.004;
         let (walls, p) = lattice(d);
         let orifice = (DVec3::ZERO, DVec3::Z, 2.0 * d);
-        // Per layer, the lattice sites within the measuring radius 12 d − 2 d.
+        // Per layer, the lattice sites within the measuring radius 12.25 d − 2 d.
         let sites = (-12..=12_i32)
             .flat_map(|i| (-12..=12_i32).map(move |j| (i, j)))
-            .filter(|&(i, j)| f64::from(i * i + j * j).sqrt() <= 10.0)
+            .filter(|&(i, j)| f64::from(i * i + j * j).sqrt() <= 10.25)
             .count() as f64;
-        let expected = sites * measure(0.5 * d) / (std::f64::consts::PI * 100.0 * d * d * d);
+        let area = std::f64::consts::PI * 10.25 * 10.25 * d * d;
+        let expected = sites * measure(0.5 * d) / (area * d);
         let phi = bed_packing(&walls, &p, orifice).expect("a bed to measure");
         assert!(
             (phi - expected).abs() < 1e-12 * expected,
@@ -205,6 +207,26 @@ mod tests {
         );
         // π/6 for the lattice, to within the circle's count of sites.
         assert!((phi / (std::f64::consts::PI / 6.0) - 1.0).abs() < 0.02);
+    }
+
+    #[test]
+    fn grains_raining_onto_the_bed_and_a_diverged_one_are_left_out() {
+        let d = 0.004;
+        let (walls, mut p) = lattice(d);
+        let orifice = (DVec3::ZERO, DVec3::Z, 2.0 * d);
+        let bed = bed_packing(&walls, &p, orifice).expect("a bed to measure");
+        // A few grains falling through the slabs above the bed, one far above, one
+        // not finite.
+        for k in 0..5 {
+            let x = DVec3::new(0.0, 0.0, (31.5 + 3.0 * k as f64) * d);
+            p.push(x, 0.5 * d, 2500.0, 0.4, 0, DVec3::ZERO, DVec3::ZERO);
+        }
+        let far = DVec3::new(0.0, 0.0, 1e6);
+        p.push(far, 0.5 * d, 2500.0, 0.4, 0, DVec3::ZERO, DVec3::ZERO);
+        let lost = DVec3::new(f64::NAN, 0.0, f64::INFINITY);
+        p.push(lost, 0.5 * d, 2500.0, 0.4, 0, DVec3::ZERO, DVec3::ZERO);
+        let phi = bed_packing(&walls, &p, orifice).expect("a bed to measure");
+        assert!((phi - bed).abs() < 1e-12 * bed, "{phi} against {bed}");
     }
 
     #[test]
