@@ -63,7 +63,11 @@ pub fn write(state: &State, w: &mut impl Write) -> io::Result<()> {
     put_u32(w, &c.rev_row)?;
     put_u32(w, &c.rev_entry)?;
     put_u64(w, &c.wall_near)?;
-    math::put(w, &c.wall_shear)?;
+    match c.wall_shear.is_empty() {
+        // The granular law keeps none: the file holds zeros there, as before.
+        true => math::put(w, &vec![Tangent::default(); c.wall_near.len() * c.n_walls])?,
+        false => math::put(w, &c.wall_shear)?,
+    }
     math::put(w, &c.pos_at_build)?;
     let frame: Vec<f64> = c
         .frame

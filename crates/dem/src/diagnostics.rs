@@ -368,14 +368,14 @@ pub fn state_hash_on<R: Reduce + ?Sized>(
     let mut h = grains_core::hash::Fnv1a::default();
     // Each group is keyed, sorted and hashed before the next is made: at the end of a run
     // the hash's own records were the peak of the whole run's memory.
-    let bodies: Vec<(u64, u32)> = (0..p.len())
+    let bodies: Vec<u32> = (0..p.len())
         .filter(|&i| owns(i))
-        .map(|i| (p.id[i] as u64, i as u32))
+        .map(|i| i as u32)
         .collect();
     hash_records(
         &mut h,
         reduce,
-        bodies,
+        (bodies, |i| p.id[i] as u64),
         (1 + 2 * Vector::N + AngVector::N, false),
         |i, put| {
             let (x, v, w) = (p.pos[i], p.vel[i], p.omega[i]);
@@ -393,33 +393,35 @@ pub fn state_hash_on<R: Reduce + ?Sized>(
         for e in list.row[i] as usize..list.row[i + 1] as usize {
             let j = list.nbr[e] as usize;
             if list.spring(e) != Tangent::default() && counts(i, j) {
-                springs.push((pair_key(i, j), e as u32));
+                springs.push(e as u32);
             }
         }
     }
-    hash_records(&mut h, reduce, springs, (1 + Tangent::N, true), |e, put| {
-        let xi = list.spring(e);
-        (0..Tangent::N).for_each(|a| put(xi.get(a).to_bits()));
-    });
+    let entry_key = |e: usize| pair_key(list.owner[e] as usize, list.nbr[e] as usize);
+    hash_records(
+        &mut h,
+        reduce,
+        (springs, entry_key),
+        (1 + Tangent::N, true),
+        |e, put| {
+            let xi = list.spring(e);
+            (0..Tangent::N).for_each(|a| put(xi.get(a).to_bits()));
+        },
+    );
     // The granular law's histories, as seen from the lower id (none under the linear law).
     let kept = list.history.kept(list.len());
-    let granular: Vec<(u64, u32)> = (0..list.len())
+    let granular: Vec<u32> = (0..list.len())
         .filter(|&e| kept && list.history.slot[e] != crate::history::NONE)
         .filter(|&e| {
             let g = list.history.get(e, list.owner[e]);
             g.iter().any(|&x| x != 0.0) && counts(list.owner[e] as usize, list.nbr[e] as usize)
         })
-        .map(|e| {
-            (
-                pair_key(list.owner[e] as usize, list.nbr[e] as usize),
-                e as u32,
-            )
-        })
+        .map(|e| e as u32)
         .collect();
     hash_records(
         &mut h,
         reduce,
-        granular,
+        (granular, entry_key),
         (1 + crate::granular::WIDTH, true),
         |e, put| {
             let g = list.history.get(e, list.owner[e]);
@@ -435,30 +437,31 @@ pub fn state_hash_on<R: Reduce + ?Sized>(
     h.finish()
 }
 
-/// Hashes one group of records, each a key and the words `words` gives for an index
-/// (`stride` words in all, the key included), in ascending key (the key itself too where `keyed`). On one rank the records are never
-/// written out: only (key, index) pairs are sorted, a tenth of the words. Over ranks the
-/// words are made and gathered, and hashed in the same order, so both give one hash.
+/// Hashes one group of records, each the words `words` gives for an index (`stride`
+/// words in all with its key, `key` of the index), in ascending key (the key itself too
+/// where `keyed`); no two records share a key. On one rank the records are never written
+/// out: only their indices are sorted, by key, 4 bytes a record. Over ranks the words are
+/// made and gathered, and hashed in the same order, so both give one hash.
 fn hash_records<R: Reduce + ?Sized>(
     h: &mut grains_core::hash::Fnv1a,
     reduce: &R,
-    mut items: Vec<(u64, u32)>,
+    (mut items, key): (Vec<u32>, impl Fn(usize) -> u64),
     (stride, keyed): (usize, bool),
     words: impl Fn(usize, &mut dyn FnMut(u64)),
 ) {
     if reduce.ranks() == 1 {
-        items.sort_unstable_by_key(|r| r.0);
-        for (key, at) in items {
+        items.sort_unstable_by_key(|&at| key(at as usize));
+        for at in items {
             if keyed {
-                h.word(key);
+                h.word(key(at as usize));
             }
             words(at as usize, &mut |w| h.word(w));
         }
         return;
     }
     let mut flat = Vec::with_capacity(items.len() * stride);
-    for &(key, at) in &items {
-        flat.push(key);
+    for &at in &items {
+        flat.push(key(at as usize));
         words(at as usize, &mut |w| flat.push(w));
     }
     drop(items);

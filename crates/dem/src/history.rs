@@ -410,6 +410,14 @@ impl Histories {
         }
     }
 
+    /// Frees every pool's reactions (a rebuild, which does not carry them: the next
+    /// pass writes them anew).
+    pub fn drop_reactions(&mut self) {
+        for p in &mut self.pools {
+            p.reactions = Vec::new();
+        }
+    }
+
     /// The widest pool's width.
     pub fn width(&self) -> usize {
         self.pools.iter().map(Pool::width).max().unwrap_or(TAN)

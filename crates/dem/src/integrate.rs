@@ -398,10 +398,8 @@ impl<'a> Written<'a> {
             omega: &mut self.omega[range.clone()],
             force: &mut self.force[range.clone()],
             torque: &mut self.torque[range],
-            ws: match nw {
-                0 => &mut [],
-                _ => &mut self.wall_shear[walls.clone()],
-            },
+            // Empty under the granular law, which keeps no linear wall springs.
+            ws: self.wall_shear.get_mut(walls.clone()).unwrap_or_default(),
             wh: match granular && nw > 0 {
                 true => self.wall_history.slice_mut(walls),
                 false => NarrowMut::default(),
@@ -523,7 +521,9 @@ impl<'a> Gather<'a> {
             while mask != 0 {
                 let w = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
-                let shear = &mut ws[k * nw + w];
+                // The granular law keeps no linear wall springs: its histories are in `wh`.
+                let mut unkept = math::Tangent::default();
+                let shear = ws.get_mut(k * nw + w).unwrap_or(&mut unkept);
                 let Some(touch) = setup.walls[w].shape.nearest(pos[i]) else {
                     continue;
                 };

@@ -73,7 +73,9 @@ pub struct ContactList {
     pub gather_after: Vec<u32>,
     /// Bit w is set when wall w may touch the particle before the next rebuild.
     pub wall_near: Vec<u64>,
-    /// Tangential spring of each particle–wall pair, `[i * n_walls + w]`.
+    /// Tangential spring of each particle–wall pair, `[i * n_walls + w]`. Empty under
+    /// the granular law, whose wall histories hold its springs (checkpoints still hold
+    /// zeros there).
     pub wall_shear: Vec<Tangent>,
     /// Number of walls (stride of `wall_shear`).
     pub n_walls: usize,
@@ -253,6 +255,13 @@ impl ContactList {
     ) {
         let n = particles.len();
         let nw = setup.walls.len();
+        // The reactions of the last pass are not carried (the next pass makes them
+        // anew): freed before the histories are filed by id, they leave room for the
+        // copy, which would otherwise be the peak of a run's memory.
+        self.fpair = Vec::new();
+        self.ftan = Vec::new();
+        self.touch = Vec::new();
+        self.history.drop_reactions();
         let old = self.history_by_id(particles);
         let granular = setup.granular.is_some();
         let old_granular = granular.then(|| self.granular_by_id(particles));
@@ -261,13 +270,12 @@ impl ContactList {
         self.nbr = Vec::new();
         self.shear = Vec::new();
         self.owner = Vec::new();
-        self.fpair = Vec::new();
-        self.ftan = Vec::new();
-        self.touch = Vec::new();
         self.rev_entry = Vec::new();
         self.history = Histories::default();
-        if self.wall_shear.len() != n * nw {
-            self.wall_shear = vec![Tangent::default(); n * nw];
+        // The granular law's wall histories hold its springs: no linear ones beside them.
+        let springs = if granular { 0 } else { n * nw };
+        if self.wall_shear.len() != springs {
+            self.wall_shear = vec![Tangent::default(); springs];
         }
         if let Some(table) = setup.granular.as_ref() {
             if self.wall_history.len() != n * nw {
@@ -280,7 +288,7 @@ impl ContactList {
         let grid = CellGrid::new(setup, bounds, particles);
         let (perm, cell_start) = sort_by_cell(&grid, particles);
         particles.permute(&perm);
-        if nw > 0 {
+        if nw > 0 && !granular {
             let old_ws = std::mem::take(&mut self.wall_shear);
             self.wall_shear = perm
                 .iter()
@@ -290,9 +298,9 @@ impl ContactList {
                         .copied()
                 })
                 .collect();
-            if granular {
-                self.wall_history = self.wall_history.permuted(&perm, nw);
-            }
+        }
+        if nw > 0 && granular {
+            self.wall_history = self.wall_history.permuted(&perm, nw);
         }
 
         // Rows, built per fixed chunk and concatenated in order (deterministic).
@@ -348,10 +356,14 @@ impl ContactList {
             None => Histories::default(),
         };
         self.find_walls(setup, particles);
-        if granular {
-            // A wall out of reach starts afresh, as its linear spring does.
-            for (i, mask) in self.wall_near.iter().enumerate() {
-                for w in (0..nw).filter(|w| mask >> w & 1 == 0) {
+        // A wall out of reach starts afresh.
+        let kept = !self.wall_shear.is_empty();
+        for (i, mask) in self.wall_near.iter().enumerate() {
+            for w in (0..nw).filter(|w| mask >> w & 1 == 0) {
+                if kept {
+                    self.wall_shear[i * nw + w] = Tangent::default();
+                }
+                if granular {
                     self.wall_history.clear(i * nw + w);
                 }
             }
@@ -494,9 +506,8 @@ impl ContactList {
         let skin = setup.skin;
         self.wall_near
             .par_chunks_mut(CHUNK)
-            .zip(self.wall_shear.par_chunks_mut(CHUNK * nw))
             .enumerate()
-            .for_each(|(c, (near, ws))| {
+            .for_each(|(c, near)| {
                 for (k, mask) in near.iter_mut().enumerate() {
                     let i = c * CHUNK + k;
                     let p = particles.pos[i];
@@ -506,8 +517,6 @@ impl ContactList {
                             || wall.shape.nearest(p).is_none_or(|t| t.distance < r + skin);
                         if close {
                             *mask |= 1 << w;
-                        } else {
-                            ws[k * nw + w] = Tangent::default();
                         }
                     }
                 }
