@@ -54,8 +54,7 @@ for k in SIZES:
         f = run(grains, text, work, name)['figures']
     g = lambda key: f.get('mass_flow_rate_' + key)
     c, c_measured = g('c_at_k1.5'), g('c_at_k1.5_measured')
-    # The measured bulk density: C scales as 1/rho_b at the same W.
-    rho_measured = g('bulk_density') * c / c_measured if c_measured else None
+    rho_measured = g('bulk_density_measured')
     rows.append((k, g('orifice_m'), g('rate_kg_s'), c, g('mean_diameter_m'), g('bulk_density'),
                  g('packing_measured'), c_measured, rho_measured))
     print(f'D = {k} d = {rows[-1][1] * 1e3:.2f} mm: W = {rows[-1][2] * 1e3:.3f} g/s, C at k = 1.5: {c:.3f}'

@@ -135,6 +135,20 @@ fn fit(x: &[f64], y: &[f64]) -> (f64, f64) {
     (my - c1 * mx, c1)
 }
 
+/// The standard error of the intercept of [`fit`]'s line through the points (NaN with
+/// two points or fewer: no residual freedom).
+fn intercept_error(x: &[f64], y: &[f64], (c0, c1): (f64, f64)) -> f64 {
+    let n = x.len() as f64;
+    let mx = x.iter().sum::<f64>() / n;
+    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
+    let ssr: f64 = x
+        .iter()
+        .zip(y)
+        .map(|(a, b)| (b - c0 - c1 * a).powi(2))
+        .sum();
+    (ssr / (n - 2.0) * (1.0 / n + mx * mx / sxx)).sqrt()
+}
+
 /// Both measures over Lube's law against d/R0 for the tall columns (a ≥ 2.5) of
 /// `rows` ([a, run-out, R0/d, edge run-out]), each with its fitted line from d/R0 = 0;
 /// false (nothing written) where fewer than two column widths have an edge.
@@ -221,10 +235,17 @@ fn by_size(rows: &[[f64; 4]], png: &std::path::Path) -> anyhow::Result<bool> {
     for (r, ((x, q), e)) in tall.iter().zip(x.iter().zip(&q99).zip(&edge)) {
         csv += &format!("{},{x:.6},{},{q:.6},{e:.6}\n", r[2], r[0]);
     }
-    let ((q0, q1), (e0, e1)) = (fit(&x, &q99), fit(&x, &edge));
+    let (q, e) = (fit(&x, &q99), fit(&x, &edge));
+    let (sq, se) = (intercept_error(&x, &q99, q), intercept_error(&x, &edge, e));
     csv += &format!(
-        "# least squares: runout_over_lube = {q0:.4} + {q1:.4} d/R0; \
-         edge_runout_over_lube = {e0:.4} + {e1:.4} d/R0\n"
+        "# least squares over {} columns: runout_over_lube = {:.4} + {:.4} d/R0 \
+         (intercept's standard error {sq:.4}); edge_runout_over_lube = {:.4} + {:.4} d/R0 \
+         (intercept's standard error {se:.4})\n",
+        x.len(),
+        q.0,
+        q.1,
+        e.0,
+        e.1
     );
     std::fs::write(png.with_extension("csv"), csv)?;
     Ok(true)

@@ -245,27 +245,18 @@ impl Observer<Dem3> for Probes {
                     let measured = w.map_or(f64::NAN, DischargeWatch::packing);
                     let rho_measured = measured * mass / volume;
                     let c_measured = rate / beverloo(1.0, 1.5, rho_measured, g, d_hole, d);
-                    report
-                        .figures
-                        .insert(format!("{name}_packing_measured"), measured.into());
-                    report
-                        .figures
-                        .insert(format!("{name}_c_at_k1.5_measured"), c_measured.into());
-                    report
-                        .figures
-                        .insert(format!("{name}_rate_kg_s"), rate.into());
-                    report
-                        .figures
-                        .insert(format!("{name}_orifice_m"), d_hole.into());
-                    report
-                        .figures
-                        .insert(format!("{name}_mean_diameter_m"), d.into());
-                    report
-                        .figures
-                        .insert(format!("{name}_bulk_density"), rho_b.into());
-                    report
-                        .figures
-                        .insert(format!("{name}_c_at_k1.5"), c_fit.into());
+                    for (key, v) in [
+                        ("rate_kg_s", rate),
+                        ("orifice_m", d_hole),
+                        ("mean_diameter_m", d),
+                        ("bulk_density", rho_b),
+                        ("c_at_k1.5", c_fit),
+                        ("packing_measured", measured),
+                        ("bulk_density_measured", rho_measured),
+                        ("c_at_k1.5_measured", c_measured),
+                    ] {
+                        report.figures.insert(format!("{name}_{key}"), v.into());
+                    }
                     Check::absolute(name, rate, 0.5 * (lo + hi), 0.5 * (hi - lo))
                 }
                 (CheckSpec::PouredMass { region, .. }, _) => {
